@@ -1,0 +1,51 @@
+// Contact force evaluation for spheres over the neighbour list.
+//
+// For each listed pair (i = lower id, j = partner):
+//   d = minimum-image branch vector x_j - x_i, n = d/|d|,
+//   delta = R_i + R_j - |d| (overlap), R* = R_i R_j / (R_i + R_j) (eq. 104);
+//   relative velocity of the contact point of j w.r.t. i
+//     v_c = v_j - v_i + L d - (l_i w_i + l_j w_j) x n,  l = R - delta/2,
+//   (v are fluctuating velocities, L d the affine part of the relative motion);
+//   its tangential part times dt drives the Hertz-Mindlin spring (eq. 113).
+// Per-pair results are stored in the list; per-particle resultant force and
+// moment (about the centroid) are then gathered in ascending partner-id order,
+// so the sums do not depend on list layout or thread count.
+// Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
+#pragma once
+
+#include <vector>
+
+#include "virtual_triaxial/dem/hertz_mindlin.h"
+#include "virtual_triaxial/dem/neighbor_list.h"
+#include "virtual_triaxial/dem/particles.h"
+#include "virtual_triaxial/dem/periodic_cell.h"
+
+namespace vt::dem {
+
+/// Sums over all contacts of one force evaluation.
+struct ContactSums {
+  Mat3 virial;                      ///< sum d (x) F_on_j [N m]; /V = stress, compression positive
+  double elastic_energy = 0;        ///< [J]
+  double friction_dissipation = 0;  ///< this step [J]
+  double max_overlap_ratio = 0;     ///< max delta / min(R_i, R_j)
+  std::int64_t contacts = 0;
+  std::int64_t sliding = 0;
+  double sum_force = 0;             ///< sum |F_c| [N] (only when measuring)
+  double sum_force2 = 0;            ///< sum |F_c|^2 [N^2] (only when measuring)
+
+  void add(const ContactSums& o);
+};
+
+class ContactForces {
+ public:
+  /// Evaluate every pair and gather per-particle force and torque.
+  /// `measure` adds the per-contact force norms needed by UFR and I_uf.
+  ContactSums compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
+                      const HertzMindlin& law, double dt, bool measure,
+                      std::vector<Vec3>& force, std::vector<Vec3>& torque);
+
+ private:
+  std::vector<ContactSums> chunk_sums_;
+};
+
+}  // namespace vt::dem

@@ -1,0 +1,87 @@
+// A scene as read from YAML (config/scenes/*.yaml): material, particles,
+// cell, damping, time step ratio, stages with stop criteria, output.
+// All values SI. Strain rates and strains in scene files follow the
+// geomechanics convention: compression positive.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "virtual_triaxial/dem/mass_damping.h"
+#include "virtual_triaxial/dem/material.h"
+#include "virtual_triaxial/dem/stability_monitor.h"
+#include "virtual_triaxial/dem/vec3.h"
+
+namespace vt::io {
+
+/// One particle type of a size distribution (count-based).
+struct ParticleType {
+  double radius = 0;     ///< [m]
+  double fraction = 0;   ///< number fraction, types sum to 1
+};
+
+/// Explicitly listed particle.
+struct ParticleSpec {
+  std::int64_t id = 0;
+  double radius = 0;            ///< [m]
+  dem::Vec3 position;           ///< [m], Cartesian
+  dem::Vec3 velocity;           ///< [m/s]
+  dem::Vec3 angular_velocity;   ///< [rad/s]
+};
+
+struct DistributionSpec {
+  std::int64_t count = 0;
+  // Either a uniform radius range or a table of types.
+  double radius_min = 0, radius_max = 0;  ///< [m], uniform in radius
+  std::vector<ParticleType> types;
+  std::uint64_t seed = 1;
+  double initial_void_ratio = 3.0;  ///< loose cloud: cell volume = (1+e) V_solids
+};
+
+enum class ParticleSource { Distribution, List, SampleFile };
+
+enum class StageType { IsotropicCompression, UndrainedShear, Relax };
+
+struct StopCriteria {
+  std::optional<double> mean_stress;    ///< stop when p >= this [Pa]
+  std::optional<double> axial_strain;   ///< stop when eps_a >= this (compression +)
+  std::optional<std::int64_t> steps;    ///< stop after this many steps in the stage
+  std::optional<double> ufr_below;      ///< stop when UFR < this (Relax)
+};
+
+struct StageSpec {
+  std::string name;
+  StageType type = StageType::IsotropicCompression;
+  /// Dimensionless strain rate eps' = eps_dot T0 (compression positive);
+  /// for undrained shear, the axial rate. Exactly one of the two is given.
+  std::optional<double> strain_rate_dimensionless;
+  std::optional<double> strain_rate;    ///< [1/s], compression positive
+  int axial_axis = 2;                   ///< 0 = x, 1 = y, 2 = z
+  StopCriteria stop;
+};
+
+struct OutputSpec {
+  std::int64_t interval = 100;         ///< steps between recorded samples
+  double progress_seconds = 2.0;       ///< wall seconds between progress lines
+};
+
+struct SceneConfig {
+  std::string source_path;             ///< the YAML file (for relative paths)
+  dem::Material material;
+  ParticleSource source = ParticleSource::Distribution;
+  DistributionSpec distribution;
+  std::vector<ParticleSpec> list;
+  std::string sample_file;             ///< resolved path when source == SampleFile
+  dem::Vec3 cell_lengths;              ///< [m], required for List
+  dem::Vec3 cell_aspect{1, 1, 1};      ///< for Distribution
+  dem::MassDamping damping;
+  double time_step_ratio = 0.3;
+  bool time_step_warning = false;      ///< c_t >= 1 accepted with a warning
+  dem::StabilityLimits stability;
+  std::vector<StageSpec> stages;
+  OutputSpec output;
+};
+
+}  // namespace vt::io

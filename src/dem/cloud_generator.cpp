@@ -1,0 +1,136 @@
+#include "virtual_triaxial/dem/cloud_generator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "virtual_triaxial/dem/random_stream.h"
+
+namespace vt::dem {
+
+namespace {
+
+/// Bin grid over [0,1)^3 fractional space for overlap queries.
+class PlacementGrid {
+ public:
+  PlacementGrid(const Vec3& box, double cutoff) {
+    for (int a = 0; a < 3; ++a) n_[a] = std::max(1, static_cast<int>(std::floor(box[a] / cutoff)));
+    bins_.resize(static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]);
+  }
+  std::size_t bin_of(const Vec3& s) const {
+    int b[3];
+    for (int a = 0; a < 3; ++a) b[a] = std::min(n_[a] - 1, static_cast<int>(s[a] * n_[a]));
+    return (static_cast<std::size_t>(b[2]) * n_[1] + b[1]) * n_[0] + b[0];
+  }
+  void insert(const Vec3& s, std::int32_t idx) { bins_[bin_of(s)].push_back(idx); }
+  template <class F>
+  bool any_near(const Vec3& s, F&& overlaps) const {
+    int b[3];
+    for (int a = 0; a < 3; ++a) b[a] = std::min(n_[a] - 1, static_cast<int>(s[a] * n_[a]));
+    const int rx = n_[0] >= 3 ? 1 : 0, ry = n_[1] >= 3 ? 1 : 0, rz = n_[2] >= 3 ? 1 : 0;
+    if (n_[0] < 3 || n_[1] < 3 || n_[2] < 3) {  // small box: check everything
+      for (const auto& bin : bins_)
+        for (std::int32_t k : bin)
+          if (overlaps(k)) return true;
+      return false;
+    }
+    for (int dz = -rz; dz <= rz; ++dz)
+      for (int dy = -ry; dy <= ry; ++dy)
+        for (int dx = -rx; dx <= rx; ++dx) {
+          const int x = (b[0] + dx + n_[0]) % n_[0], y = (b[1] + dy + n_[1]) % n_[1], z = (b[2] + dz + n_[2]) % n_[2];
+          for (std::int32_t k : bins_[(static_cast<std::size_t>(z) * n_[1] + y) * n_[0] + x])
+            if (overlaps(k)) return true;
+        }
+    return false;
+  }
+
+ private:
+  int n_[3] = {1, 1, 1};
+  std::vector<std::vector<std::int32_t>> bins_;
+};
+
+bool try_place_all(const CloudRequest& req, const std::vector<double>& sorted, const Vec3& box,
+                   RandomStream& rng, Cloud& out) {
+  const PeriodicCell cell(box);
+  PlacementGrid grid(box, 2.0 * sorted.front());
+  Particles p;
+  p.reserve(sorted.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    const double r = sorted[i];
+    bool placed = false;
+    for (int t = 0; t < req.attempts_per_particle && !placed; ++t) {
+      const Vec3 s{rng.uniform(), rng.uniform(), rng.uniform()};
+      const bool clash = grid.any_near(s, [&](std::int32_t k) {
+        const double reach = r + p.radius[static_cast<std::size_t>(k)];
+        return norm2(cell.branch(s, p.frac[static_cast<std::size_t>(k)])) < reach * reach;
+      });
+      if (!clash) {
+        p.add_sphere(static_cast<std::int64_t>(i), r, req.density, s);
+        grid.insert(s, static_cast<std::int32_t>(i));
+        placed = true;
+      }
+    }
+    if (!placed) return false;
+  }
+  out.particles = std::move(p);
+  out.cell = cell;
+  return true;
+}
+
+}  // namespace
+
+Cloud generate_cloud(const CloudRequest& req) {
+  if (req.radii.size() < 2) throw std::invalid_argument("particles.count: at least 2 particles are needed");
+  for (double r : req.radii)
+    if (!(r > 0.0 && std::isfinite(r))) throw std::invalid_argument("particles.radius: must be > 0");
+  if (!(req.void_ratio > 0.0)) throw std::invalid_argument("initial_void_ratio: must be > 0");
+  for (int a = 0; a < 3; ++a)
+    if (!(req.aspect[a] > 0.0)) throw std::invalid_argument("cell.aspect: must be > 0");
+  std::vector<double> sorted = req.radii;
+  std::stable_sort(sorted.begin(), sorted.end(), std::greater<double>());
+  double vs = 0.0;
+  for (double r : sorted) vs += sphere_volume(r);
+  const double prod = req.aspect.x * req.aspect.y * req.aspect.z;
+  double scale = std::cbrt((1.0 + req.void_ratio) * vs / prod);
+  // The box must be wide enough for minimum-image neighbour search.
+  const double min_aspect = std::min(req.aspect.x, std::min(req.aspect.y, req.aspect.z));
+  scale = std::max(scale, 4.5 * sorted.front() / min_aspect);
+  RandomStream rng(req.seed);
+  Cloud out;
+  for (int growth = 0; growth < 200; ++growth) {
+    const Vec3 box = scale * req.aspect;
+    if (try_place_all(req, sorted, box, rng, out)) {
+      out.box_growths = growth;
+      return out;
+    }
+    scale *= std::cbrt(1.05);
+  }
+  throw std::runtime_error("cloud generation: could not place the particles");
+}
+
+std::vector<double> uniform_radii(std::int64_t count, double rmin, double rmax, std::uint64_t seed) {
+  RandomStream rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  std::vector<double> r(static_cast<std::size_t>(count));
+  for (double& x : r) x = rng.uniform(rmin, rmax);
+  return r;
+}
+
+std::vector<double> table_radii(std::int64_t count, const std::vector<std::pair<double, double>>& types) {
+  std::vector<std::int64_t> n(types.size());
+  std::vector<std::pair<double, std::size_t>> rem;
+  std::int64_t used = 0;
+  for (std::size_t k = 0; k < types.size(); ++k) {
+    const double exact = types[k].second * static_cast<double>(count);
+    n[k] = static_cast<std::int64_t>(std::floor(exact));
+    used += n[k];
+    rem.emplace_back(exact - static_cast<double>(n[k]), k);
+  }
+  std::stable_sort(rem.begin(), rem.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t k = 0; used < count && k < rem.size(); ++k, ++used) ++n[rem[k].second];
+  std::vector<double> r;
+  for (std::size_t k = 0; k < types.size(); ++k) r.insert(r.end(), static_cast<std::size_t>(n[k]), types[k].first);
+  return r;
+}
+
+}  // namespace vt::dem

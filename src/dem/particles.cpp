@@ -1,0 +1,65 @@
+#include "virtual_triaxial/dem/particles.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vt::dem {
+
+double sphere_volume(double r) { return 4.0 / 3.0 * M_PI * r * r * r; }
+
+void Particles::resize(std::size_t n) {
+  id.resize(n);
+  shape.resize(n, Shape::Sphere);
+  radius.resize(n);
+  semi_axes.resize(n);
+  mass.resize(n);
+  inertia.resize(n);
+  frac.resize(n);
+  velocity.resize(n);
+  omega.resize(n);
+  orientation.resize(n);
+  material.resize(n, 0);
+}
+
+void Particles::reserve(std::size_t n) {
+  id.reserve(n); shape.reserve(n); radius.reserve(n); semi_axes.reserve(n);
+  mass.reserve(n); inertia.reserve(n); frac.reserve(n); velocity.reserve(n);
+  omega.reserve(n); orientation.reserve(n); material.reserve(n);
+}
+
+void Particles::add_sphere(std::int64_t pid, double r, double rho, const Vec3& s,
+                           const Vec3& v, const Vec3& w, std::int32_t mat) {
+  const double m = rho * sphere_volume(r);
+  const double i = 0.4 * m * r * r;  // solid sphere: 2/5 m R^2
+  id.push_back(pid);
+  shape.push_back(Shape::Sphere);
+  radius.push_back(r);
+  semi_axes.push_back({r, r, r});
+  mass.push_back(m);
+  inertia.push_back({i, i, i});
+  frac.push_back(s);
+  velocity.push_back(v);
+  omega.push_back(w);
+  orientation.push_back({});
+  material.push_back(mat);
+}
+
+double Particles::min_minor_semi_axis() const {
+  double r = INFINITY;
+  for (const Vec3& a : semi_axes) r = std::min(r, a.y);
+  return r;
+}
+
+double Particles::max_bounding_radius() const {
+  double r = 0.0;
+  for (const Vec3& a : semi_axes) r = std::max(r, a.x);
+  return r;
+}
+
+double Particles::solid_volume() const {
+  double v = 0.0;
+  for (const Vec3& a : semi_axes) v += 4.0 / 3.0 * M_PI * a.x * a.y * a.z;
+  return v;
+}
+
+}  // namespace vt::dem

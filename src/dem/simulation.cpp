@@ -1,0 +1,194 @@
+#include "virtual_triaxial/dem/simulation.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace vt::dem {
+
+Simulation::Simulation(Particles particles, const PeriodicCell& cell, const SimulationSettings& settings)
+    : particles_(std::move(particles)), cell_(cell), settings_(settings) {
+  initialize();
+}
+
+Simulation::Simulation(const SimulationState& s)
+    : particles_(s.particles), cell_(s.h, s.h_reference), settings_(s.settings) {
+  cell_.set_velocity_gradient(s.velocity_gradient);
+  time_ = s.time;
+  steps_ = s.step;
+  energy_ = s.energy;
+  initialize();
+  const std::size_t missing = list_.restore(particles_, s.contacts);
+  if (missing > 0)
+    throw std::runtime_error("contacts: " + std::to_string(missing) +
+                             " stored contact(s) join particles that are not within reach");
+}
+
+void Simulation::initialize() {
+  if (particles_.size() < 2) throw std::invalid_argument("particles: at least 2 particles are needed");
+  for (Shape s : particles_.shape)
+    if (s != Shape::Sphere) throw std::invalid_argument("particles.shape: only spheres are supported so far");
+  const std::string bad = settings_.material.validate();
+  if (!bad.empty()) throw std::invalid_argument("material." + bad);
+  if (!(settings_.time_step_ratio > 0.0)) throw std::invalid_argument("time_step_ratio: must be > 0");
+  law_.set_material(settings_.material);
+  monitor_ = StabilityMonitor(settings_.limits);
+  time_scale_ = TimeScale::from(particles_.min_minor_semi_axis(), settings_.material.density,
+                                settings_.material.young, settings_.time_step_ratio);
+  list_.set_skin(settings_.skin_ratio * time_scale_.l0);
+  list_.build(particles_, cell_);
+  update_damping();
+}
+
+void Simulation::update_damping() {
+  std::vector<double> alpha(particles_.size());
+  const Material& m = settings_.material;
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    alpha[i] = settings_.damping.alpha(particles_.radius[i], time_scale_.t0, m.young, m.density);
+  integrator_.set_coefficients(particles_, alpha, time_scale_.dt);
+}
+
+void Simulation::set_damping(const MassDamping& d) {
+  settings_.damping = d;
+  update_damping();
+}
+
+void Simulation::set_friction(double mu) {
+  settings_.material.friction = mu;
+  law_.set_friction(mu);
+}
+
+void Simulation::set_time_step_ratio(double ct) {
+  settings_.time_step_ratio = ct;
+  time_scale_ = TimeScale::from(particles_.min_minor_semi_axis(), settings_.material.density,
+                                settings_.material.young, ct);
+  update_damping();
+}
+
+bool Simulation::step(bool measure) {
+  if (!failure_.empty()) return false;
+  const bool check = steps_ % settings_.check_interval == 0;
+  measure = measure || check || !energy_.has_reference;
+  if (list_.stale(last_max_disp2_, cell_)) list_.build(particles_, cell_);
+
+  const double dt = time_scale_.dt;
+  const ContactSums cs =
+      contact_forces_.compute(particles_, cell_, list_, law_, dt, measure, force_, torque_);
+  // Boundary power -sum_c F . (L d) = -sum_ab L_ab W_ba with W = sum d (x) F.
+  const Mat3& l = cell_.velocity_gradient();
+  double power = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) power -= l.m[a][b] * cs.virial.m[b][a];
+  const double volume = cell_.volume();
+
+  cell_.deform(dt);
+  const IntegrationSums is = integrator_.advance(particles_, cell_, force_, torque_, list_.frac_at_build(), measure);
+  last_max_disp2_ = is.max_displacement2;
+
+  if (energy_.has_reference) {
+    energy_.boundary_work += power * dt;
+    energy_.damping += is.damping_dissipation;
+    energy_.friction += cs.friction_dissipation;
+  }
+  if (measure) {
+    energy_.kinetic_translational = is.kinetic_translational;
+    energy_.kinetic_rotational = is.kinetic_rotational;
+    energy_.elastic = cs.elastic_energy;
+    if (!energy_.has_reference) {
+      energy_.kinetic_reference = energy_.kinetic();
+      energy_.elastic_reference = energy_.elastic;
+      energy_.has_reference = true;
+    }
+    last_contacts_ = cs;
+    last_integration_ = is;
+    last_volume_ = volume;
+    last_time_ = time_;
+    last_step_ = steps_;
+  }
+  time_ += dt;
+  ++steps_;
+  if (measure || !is.finite) {
+    failure_ = monitor_.check(is.finite, cs.max_overlap_ratio, energy_);
+    if (!failure_.empty()) return false;
+  }
+  return true;
+}
+
+std::int64_t Simulation::run(std::int64_t n) {
+  std::int64_t k = 0;
+  while (k < n && step(false)) ++k;
+  return k;
+}
+
+Measures Simulation::measures() const {
+  if (last_step_ < 0) throw std::logic_error("measures(): no measured step yet");
+  Measures m;
+  m.time = last_time_;
+  m.step = last_step_;
+  m.volume = last_volume_;
+  const ContactSums& cs = last_contacts_;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) m.stress.m[a][b] = 0.5 * (cs.virial.m[a][b] + cs.virial.m[b][a]) / last_volume_;
+  m.principal_stress = principal_values(m.stress);
+  m.p = m.stress.trace() / 3.0;
+  const double s1 = m.principal_stress.x, s3 = m.principal_stress.z;
+  m.phi = (s1 + s3) > 0.0 ? std::asin((s1 - s3) / (s1 + s3)) : 0.0;
+  m.q = m.stress.m[2][2] - std::min(m.stress.m[0][0], m.stress.m[1][1]);
+  const Vec3 e = cell_.log_strain();
+  m.strain = {-e.x, -e.y, -e.z};
+  m.volumetric_strain = -cell_.log_volume_strain();
+  m.void_ratio = last_volume_ / particles_.solid_volume() - 1.0;
+
+  // Force and moment indices from the resultant contact forces and moments.
+  const std::size_t n = particles_.size();
+  double sum_fp = 0, sum_fp2 = 0, sum_mp = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f2 = norm2(force_[i]);
+    sum_fp2 += f2;
+    sum_fp += std::sqrt(f2);
+    sum_mp += norm(torque_[i]);
+  }
+  const double nc = static_cast<double>(cs.contacts), np = static_cast<double>(n);
+  if (cs.contacts > 0 && cs.sum_force > 0) {
+    m.ufr = (sum_fp / np) / (cs.sum_force / nc);
+    m.iuf = std::sqrt((sum_fp2 / np) / (cs.sum_force2 / nc));
+  }
+  const Vec3& ps = m.principal_stress;
+  const double oct = std::sqrt(ps.x * ps.x + ps.y * ps.y + ps.z * ps.z) / std::sqrt(3.0);
+  if (oct > 0) {
+    m.moment_index = sum_mp / (last_volume_ * oct);
+    m.inertia_index = last_integration_.sum_inertia_moment / (last_volume_ * oct);
+  }
+  // Coordination with iterative idle removal.
+  std::vector<std::pair<std::int32_t, std::int32_t>> contacts;
+  contacts.reserve(static_cast<std::size_t>(cs.contacts));
+  const PairData& pd = list_.pairs();
+  const auto& off = list_.offsets();
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::int32_t k = off[i]; k < off[i + 1]; ++k)
+      if (pd.half_overlap[k] > 0.0) contacts.emplace_back(static_cast<std::int32_t>(i), pd.partner[k]);
+  const Coordination c = mechanical_coordination(n, contacts, particles_.mass);
+  m.coordination_number = c.mechanical;
+  m.raw_coordination_number = 2.0 * nc / np;
+  m.idle_mass_fraction = c.idle_mass_fraction;
+  m.contacts = cs.contacts;
+  m.sliding_contacts = cs.sliding;
+  m.max_overlap_ratio = cs.max_overlap_ratio;
+  m.energy = energy_;
+  return m;
+}
+
+SimulationState Simulation::state() const {
+  SimulationState s;
+  s.particles = particles_;
+  s.h = cell_.h();
+  s.h_reference = cell_.h_reference();
+  s.velocity_gradient = cell_.velocity_gradient();
+  s.contacts = list_.histories(particles_);
+  s.time = time_;
+  s.step = steps_;
+  s.energy = energy_;
+  s.settings = settings_;
+  return s;
+}
+
+}  // namespace vt::dem

@@ -1,0 +1,358 @@
+#include "virtual_triaxial/io/scene_parser.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "virtual_triaxial/io/yaml_fields.h"
+
+namespace vt::io {
+namespace {
+
+namespace fs = std::filesystem;
+using yaml_fields::Section;
+using yaml_fields::index;
+using yaml_fields::require;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+double positive(const Section& s, const std::string& key, double fallback) {
+  const double v = s.number_or(key, fallback);
+  require(v > 0.0, s.path(key), "must be > 0, got " + num(v));
+  return v;
+}
+
+double positive(const Section& s, const std::string& key) {
+  const double v = s.number(key);
+  require(v > 0.0, s.path(key), "must be > 0, got " + num(v));
+  return v;
+}
+
+double non_negative(const Section& s, const std::string& key, double fallback) {
+  const double v = s.number_or(key, fallback);
+  require(v >= 0.0, s.path(key), "must be >= 0, got " + num(v));
+  return v;
+}
+
+void require_positive_components(const dem::Vec3& v, const std::string& path) {
+  for (int i = 0; i < 3; ++i)
+    require(v[i] > 0.0, index(path, static_cast<std::size_t>(i)), "must be > 0, got " + num(v[i]));
+}
+
+// ---- material ------------------------------------------------------------------
+
+void parse_material(const YAML::Node& node, dem::Material& m) {
+  const Section s(node, "material", {"density", "young_modulus", "poisson_ratio", "friction"});
+  m.density = positive(s, "density", m.density);
+  m.young = positive(s, "young_modulus", m.young);
+  m.poisson = s.number_or("poisson_ratio", m.poisson);
+  require(m.poisson > -1.0 && m.poisson < 0.5, s.path("poisson_ratio"),
+          "must lie in the open interval (-1, 0.5), got " + num(m.poisson));
+  m.friction = non_negative(s, "friction", m.friction);
+  const std::string err = m.validate();  // backstop; the checks above are stricter
+  require(err.empty(), "material", err);
+}
+
+// ---- particles -----------------------------------------------------------------
+
+void parse_distribution(const YAML::Node& node, DistributionSpec& d) {
+  const Section s(node, "particles.distribution",
+                  {"count", "radius_min", "radius_max", "types", "seed", "initial_void_ratio"});
+  d.count = s.integer("count");
+  require(d.count >= 2, s.path("count"), "must be an integer >= 2, got " + std::to_string(d.count));
+
+  const bool has_range = s.has("radius_min") || s.has("radius_max");
+  const bool has_types = s.has("types");
+  require(!(has_range && has_types), s.path(),
+          "give either radius_min/radius_max (uniform in radius) or types, not both");
+  require(has_range || has_types, s.path(),
+          "give either radius_min and radius_max (uniform in radius) or a types table");
+  if (has_range) {
+    d.radius_min = positive(s, "radius_min");
+    d.radius_max = positive(s, "radius_max");
+    require(d.radius_min <= d.radius_max, s.path("radius_max"),
+            "must be >= radius_min (" + num(d.radius_min) + "), got " + num(d.radius_max));
+  } else {
+    const YAML::Node types = s.get("types");
+    yaml_fields::expect_list(types, s.path("types"));
+    require(types.size() > 0, s.path("types"), "must hold at least one {radius, fraction} entry");
+    double sum = 0.0;
+    for (std::size_t i = 0; i < types.size(); ++i) {
+      const Section t(types[i], index(s.path("types"), i), {"radius", "fraction"});
+      ParticleType pt;
+      pt.radius = positive(t, "radius");
+      pt.fraction = positive(t, "fraction");
+      sum += pt.fraction;
+      d.types.push_back(pt);
+    }
+    require(std::fabs(sum - 1.0) <= 1e-6, s.path("types"),
+            "fractions sum to " + num(sum) + "; they must sum to 1 (within 1e-6)");
+  }
+  const std::int64_t seed = s.integer_or("seed", static_cast<std::int64_t>(d.seed));
+  require(seed >= 0, s.path("seed"), "must be a non-negative integer, got " + std::to_string(seed));
+  d.seed = static_cast<std::uint64_t>(seed);
+  d.initial_void_ratio = positive(s, "initial_void_ratio", d.initial_void_ratio);
+}
+
+void parse_list(const YAML::Node& node, std::vector<ParticleSpec>& list) {
+  const std::string path = "particles.list";
+  yaml_fields::expect_list(node, path);
+  require(node.size() > 0, path, "must hold at least one particle");
+  std::map<std::int64_t, std::size_t> first_use;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const Section s(node[i], index(path, i),
+                    {"id", "radius", "position", "velocity", "angular_velocity"});
+    ParticleSpec p;
+    p.id = s.integer("id");
+    require(p.id >= 0, s.path("id"), "must be a non-negative integer, got " + std::to_string(p.id));
+    const auto [it, fresh] = first_use.emplace(p.id, i);
+    require(fresh, s.path("id"),
+            "duplicate id " + std::to_string(p.id) + " (already used by " + index(path, it->second) + ")");
+    p.radius = positive(s, "radius");
+    p.position = s.vec3("position");
+    p.velocity = s.vec3_or("velocity", {});
+    p.angular_velocity = s.vec3_or("angular_velocity", {});
+    list.push_back(p);
+  }
+}
+
+std::string resolve_sample_file(const Section& s, const std::string& source_path) {
+  const std::string field = s.path("sample_file");
+  const std::string given = s.string("sample_file");
+  require(!given.empty(), field, "must be a non-empty path");
+  std::error_code ec;
+  fs::path base = source_path.empty() ? fs::path(".") : fs::path(source_path).parent_path();
+  if (base.empty()) base = ".";
+  fs::path abs_base = fs::absolute(base, ec);
+  if (ec) abs_base = base;
+  abs_base = abs_base.lexically_normal();
+  const fs::path p(given);
+  const fs::path abs = p.is_absolute() ? p.lexically_normal() : (abs_base / p).lexically_normal();
+  const std::string where = (source_path.empty() ? "the current directory '"
+                                                 : "the scene file's folder '") +
+                            abs_base.string() + "'";
+  require(fs::exists(abs, ec), field,
+          "file not found: '" + abs.string() + "' (relative paths are taken from " + where + ")");
+  require(fs::is_regular_file(abs, ec), field, "not a regular file: '" + abs.string() + "'");
+  return abs.string();
+}
+
+void parse_particles(const YAML::Node& node, const std::string& source_path, SceneConfig& cfg) {
+  const Section s(node, "particles", {"distribution", "list", "sample_file"});
+  const int given = int(s.has("distribution")) + int(s.has("list")) + int(s.has("sample_file"));
+  require(given == 1, "particles",
+          std::string(given == 0 ? "missing particle source" : "more than one particle source") +
+              ": give exactly one of distribution, list, sample_file");
+  if (s.has("distribution")) {
+    cfg.source = ParticleSource::Distribution;
+    parse_distribution(s.get("distribution"), cfg.distribution);
+  } else if (s.has("list")) {
+    cfg.source = ParticleSource::List;
+    parse_list(s.get("list"), cfg.list);
+  } else {
+    cfg.source = ParticleSource::SampleFile;
+    cfg.sample_file = resolve_sample_file(s, source_path);
+  }
+}
+
+// ---- cell, damping, stability, output ------------------------------------------
+
+void parse_cell(const YAML::Node& node, SceneConfig& cfg) {
+  const Section s(node, "cell", {"lengths", "aspect"});
+  switch (cfg.source) {
+    case ParticleSource::List:
+      require(s.has("lengths"), s.path("lengths"), "required with particles.list");
+      cfg.cell_lengths = s.vec3("lengths");
+      require_positive_components(cfg.cell_lengths, s.path("lengths"));
+      require(!s.has("aspect"), s.path("aspect"),
+              "not allowed with particles.list (cell.lengths fixes the cell)");
+      break;
+    case ParticleSource::SampleFile:
+      require(!s.has("lengths"), s.path("lengths"),
+              "not allowed with particles.sample_file (the sample file defines the cell)");
+      require(!s.has("aspect"), s.path("aspect"),
+              "not allowed with particles.sample_file (the sample file defines the cell)");
+      break;
+    case ParticleSource::Distribution:
+      require(!s.has("lengths"), s.path("lengths"),
+              "not allowed with particles.distribution (the cell volume follows from "
+              "initial_void_ratio; use cell.aspect for its shape)");
+      cfg.cell_aspect = s.vec3_or("aspect", cfg.cell_aspect);
+      require_positive_components(cfg.cell_aspect, s.path("aspect"));
+      break;
+  }
+}
+
+void parse_damping(const YAML::Node& node, dem::MassDamping& damping) {
+  const Section s(node, "damping", {"model", "ratio"});
+  dem::DampingModel model = damping.model();
+  if (s.has("model")) {
+    const std::string m = s.string("model");
+    require(dem::parse_damping_model(m, model), s.path("model"),
+            "expected OD (global, eq. 101) or ND (size-dependent, eq. 63), got '" + m + "'");
+  }
+  const double ratio = non_negative(s, "ratio", damping.ratio());
+  damping = dem::MassDamping(model, ratio);
+}
+
+void parse_stability(const YAML::Node& node, dem::StabilityLimits& lim) {
+  const Section s(node, "stability", {"max_overlap_ratio", "max_energy_error"});
+  lim.max_overlap_ratio = positive(s, "max_overlap_ratio", lim.max_overlap_ratio);
+  lim.max_energy_error = positive(s, "max_energy_error", lim.max_energy_error);
+}
+
+void parse_output(const YAML::Node& node, OutputSpec& out) {
+  const Section s(node, "output", {"interval", "progress_seconds"});
+  out.interval = s.integer_or("interval", out.interval);
+  require(out.interval > 0, s.path("interval"),
+          "must be an integer > 0, got " + std::to_string(out.interval));
+  out.progress_seconds = positive(s, "progress_seconds", out.progress_seconds);
+}
+
+// ---- stages ----------------------------------------------------------------------
+
+StageType parse_stage_type(const Section& s) {
+  const std::string t = s.string("type");
+  const std::string l = lower(t);
+  if (l == "isotropic_compression") return StageType::IsotropicCompression;
+  if (l == "undrained_shear") return StageType::UndrainedShear;
+  if (l == "relax") return StageType::Relax;
+  throw SceneError(s.path("type"), "unknown stage type '" + t +
+                                       "'; allowed: isotropic_compression, undrained_shear, relax");
+}
+
+void parse_stop(const Section& stage, StopCriteria& stop) {
+  require(stage.has("stop"), stage.path("stop"),
+          "required: give at least one of mean_stress, axial_strain, steps, ufr_below");
+  const Section s(stage.get("stop"), stage.path("stop"),
+                  {"mean_stress", "axial_strain", "steps", "ufr_below"});
+  if (s.has("mean_stress")) stop.mean_stress = positive(s, "mean_stress");
+  if (s.has("axial_strain")) stop.axial_strain = positive(s, "axial_strain");
+  if (s.has("ufr_below")) stop.ufr_below = positive(s, "ufr_below");
+  if (s.has("steps")) {
+    stop.steps = s.integer("steps");
+    require(*stop.steps > 0, s.path("steps"),
+            "must be an integer > 0, got " + std::to_string(*stop.steps));
+  }
+  require(stop.mean_stress || stop.axial_strain || stop.steps || stop.ufr_below, s.path(),
+          "needs at least one of mean_stress, axial_strain, steps, ufr_below");
+}
+
+StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
+  const Section s(node, index("stages", i),
+                  {"name", "type", "strain_rate_dimensionless", "strain_rate", "axial_axis", "stop"});
+  StageSpec st;
+  st.name = s.string_or("name", "stage" + std::to_string(i));
+  require(!st.name.empty(), s.path("name"), "must be a non-empty string");
+  st.type = parse_stage_type(s);
+
+  const bool has_dimless = s.has("strain_rate_dimensionless");
+  const bool has_rate = s.has("strain_rate");
+  if (st.type == StageType::Relax) {
+    for (const char* key : {"strain_rate_dimensionless", "strain_rate"})
+      require(!s.has(key), s.path(key), "not allowed for a relax stage (no strain rate is applied)");
+  } else {
+    require(!(has_dimless && has_rate), s.path("strain_rate"),
+            "give exactly one of strain_rate_dimensionless and strain_rate, not both");
+    require(has_dimless || has_rate, s.path("strain_rate_dimensionless"),
+            "required: give strain_rate_dimensionless (eps' = eps_dot T0) or strain_rate [1/s]");
+    const char* key = has_dimless ? "strain_rate_dimensionless" : "strain_rate";
+    const double rate = positive(s, key);  // compression positive
+    (has_dimless ? st.strain_rate_dimensionless : st.strain_rate) = rate;
+  }
+
+  if (s.has("axial_axis")) {
+    require(st.type == StageType::UndrainedShear, s.path("axial_axis"),
+            "only allowed for undrained_shear stages");
+    const std::string a = s.string("axial_axis");
+    const std::string l = lower(a);
+    require(l == "x" || l == "y" || l == "z", s.path("axial_axis"),
+            "expected x, y or z, got '" + a + "'");
+    st.axial_axis = l == "x" ? 0 : (l == "y" ? 1 : 2);
+  }
+  parse_stop(s, st.stop);
+  return st;
+}
+
+void parse_stages(const YAML::Node& node, std::vector<StageSpec>& stages) {
+  yaml_fields::expect_list(node, "stages");
+  require(node.size() > 0, "stages", "must hold at least one stage");
+  for (std::size_t i = 0; i < node.size(); ++i) stages.push_back(parse_stage(node[i], i));
+}
+
+SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path) {
+  SceneConfig cfg;
+  cfg.source_path = source_path;
+  const Section top(doc, "",
+                    {"material", "particles", "cell", "damping", "time_step_ratio", "stability",
+                     "stages", "output"});
+  parse_material(top.get("material"), cfg.material);
+  parse_particles(top.required("particles"), source_path, cfg);
+  parse_cell(top.get("cell"), cfg);
+  parse_damping(top.get("damping"), cfg.damping);
+  cfg.time_step_ratio = top.number_or("time_step_ratio", cfg.time_step_ratio);
+  require(cfg.time_step_ratio > 0.0, "time_step_ratio",
+          "must be > 0 (time step = c_t x critical time step), got " + num(cfg.time_step_ratio));
+  cfg.time_step_warning = cfg.time_step_ratio >= 1.0;
+  parse_stability(top.get("stability"), cfg.stability);
+  parse_stages(top.required("stages"), cfg.stages);
+  parse_output(top.get("output"), cfg.output);
+  return cfg;
+}
+
+}  // namespace
+
+SceneConfig parse_scene(const std::string& yaml_text, const std::string& source_path) {
+  const std::string in = source_path.empty() ? "" : " in '" + source_path + "'";
+  std::vector<YAML::Node> docs;
+  try {
+    docs = YAML::LoadAll(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw SceneError("scene", "YAML syntax error" + in + " at line " + std::to_string(e.mark.line + 1) +
+                                  ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw SceneError("scene", "cannot parse YAML" + in + ": " + e.what());
+  }
+  require(!docs.empty() && !docs[0].IsNull(), "scene",
+          "empty document" + in + "; expected a mapping with at least `particles` and `stages`");
+  require(docs.size() == 1, "scene",
+          "holds " + std::to_string(docs.size()) + " YAML documents" + in + "; expected one");
+  try {
+    return parse_document(docs[0], source_path);
+  } catch (const YAML::Exception& e) {  // should not happen: fields are read without as<>()
+    throw SceneError("scene", std::string("unexpected YAML error") + in + ": " + e.what());
+  }
+}
+
+SceneConfig load_scene(const std::string& path) {
+  std::error_code ec;
+  require(!fs::is_directory(path, ec), "scene", "cannot open '" + path + "': is a directory");
+  errno = 0;
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    const int err = errno;
+    throw SceneError("scene", "cannot open '" + path + "'" +
+                                  (err != 0 ? std::string(": ") + std::strerror(err) : std::string()));
+  }
+  std::ostringstream text;
+  text << file.rdbuf();
+  require(!file.bad(), "scene", "cannot read '" + path + "'");
+  return parse_scene(text.str(), path);
+}
+
+}  // namespace vt::io

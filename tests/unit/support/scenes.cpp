@@ -1,0 +1,57 @@
+#include "support/scenes.h"
+
+#include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/random_stream.h"
+
+namespace vt::test {
+
+dem::Material test_material(double friction) {
+  dem::Material m;
+  m.density = 2650.0;
+  m.young = 70e9;
+  m.poisson = 0.3;
+  m.friction = friction;
+  return m;
+}
+
+dem::SimulationSettings undamped(double ct, double friction) {
+  dem::SimulationSettings s;
+  s.material = test_material(friction);
+  s.damping = dem::MassDamping(dem::DampingModel::OD, 0.0);
+  s.time_step_ratio = ct;
+  return s;
+}
+
+CloudScene polydisperse_cloud(std::int64_t n, double void_ratio, std::uint64_t seed,
+                              double length_scale, double density) {
+  dem::CloudRequest req;
+  req.radii = dem::uniform_radii(n, 0.8e-3, 1.2e-3, seed);
+  req.density = density;
+  req.void_ratio = void_ratio;
+  req.seed = seed;
+  dem::Cloud c = dem::generate_cloud(req);
+  CloudScene s;
+  if (length_scale == 1.0) {
+    s.particles = std::move(c.particles);
+    s.cell = c.cell;
+    return s;
+  }
+  // Same fractional geometry, every length scaled.
+  dem::Particles& p = c.particles;
+  dem::Particles q;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    q.add_sphere(p.id[i], length_scale * p.radius[i], density, p.frac[i]);
+  s.particles = std::move(q);
+  s.cell = dem::PeriodicCell(length_scale * dem::Vec3{c.cell.h()(0, 0), c.cell.h()(1, 1), c.cell.h()(2, 2)});
+  return s;
+}
+
+void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed) {
+  dem::RandomStream rng(seed);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.velocity[i] = {speed * rng.uniform(-1, 1), speed * rng.uniform(-1, 1), speed * rng.uniform(-1, 1)};
+    p.omega[i] = {spin * rng.uniform(-1, 1), spin * rng.uniform(-1, 1), spin * rng.uniform(-1, 1)};
+  }
+}
+
+}  // namespace vt::test

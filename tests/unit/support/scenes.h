@@ -1,0 +1,29 @@
+// Small scene builders shared by the unit tests.
+#pragma once
+
+#include <cstdint>
+
+#include "virtual_triaxial/dem/particles.h"
+#include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/simulation.h"
+
+namespace vt::test {
+
+/// Default test material: rho 2650, E 70 GPa, nu 0.3, mu 0.5.
+dem::Material test_material(double friction = 0.5);
+
+/// Settings with the given c_t, no damping.
+dem::SimulationSettings undamped(double ct, double friction = 0.5);
+
+/// A loose polydisperse cloud (radii uniform in [0.8, 1.2] mm), void ratio e.
+struct CloudScene {
+  dem::Particles particles;
+  dem::PeriodicCell cell;
+};
+CloudScene polydisperse_cloud(std::int64_t n, double void_ratio, std::uint64_t seed,
+                              double length_scale = 1.0, double density = 2650.0);
+
+/// Give every particle a random velocity of size ~speed and random spin.
+void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed);
+
+}  // namespace vt::test
