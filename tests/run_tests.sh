@@ -17,7 +17,12 @@ rm -rf "${ROOT}/build/test_results/virtual_triaxial"
 log="$(mktemp)"
 trap 'rm -f "${log}"' EXIT
 
-echo "[tests] ctest --output-on-failure -j${VT_JOBS:-2}"
+# ctest runs ${VT_JOBS:-2} tests at once on a 2-core machine: one OpenMP
+# thread each avoids oversubscription (spinning threads slow everything down).
+# Tests that check thread-count independence set their thread counts
+# explicitly with omp_set_num_threads.
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
+echo "[tests] ctest --output-on-failure -j${VT_JOBS:-2} (OMP_NUM_THREADS=${OMP_NUM_THREADS})"
 ctest_rc=0
 (cd "${ROOT}/build" && ctest --output-on-failure -j"${VT_JOBS:-2}") 2>&1 | tee "${log}" \
   || ctest_rc=$?

@@ -79,6 +79,8 @@ bool Simulation::step(bool measure) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) power -= l.m[a][b] * cs.virial.m[b][a];
   const double volume = cell_.volume();
+  last_virial_ = cs.virial;
+  last_force_volume_ = volume;
 
   cell_.deform(dt);
   const IntegrationSums is = integrator_.advance(particles_, cell_, force_, torque_, list_.frac_at_build(), measure);
@@ -106,7 +108,9 @@ bool Simulation::step(bool measure) {
   }
   time_ += dt;
   ++steps_;
-  if (measure || !is.finite) {
+  // Overlap and finiteness are known every step; the energy balance only on
+  // measured steps (it needs the kinetic energy).
+  if (measure || !is.finite || cs.max_overlap_ratio > settings_.limits.max_overlap_ratio) {
     failure_ = monitor_.check(is.finite, cs.max_overlap_ratio, energy_);
     if (!failure_.empty()) return false;
   }
@@ -131,7 +135,8 @@ Measures Simulation::measures() const {
   m.principal_stress = principal_values(m.stress);
   m.p = m.stress.trace() / 3.0;
   const double s1 = m.principal_stress.x, s3 = m.principal_stress.z;
-  m.phi = (s1 + s3) > 0.0 ? std::asin((s1 - s3) / (s1 + s3)) : 0.0;
+  // asin argument clamped: with a tensile s3 the ratio leaves [-1, 1].
+  m.phi = (s1 + s3) > 0.0 ? std::asin(std::min(1.0, (s1 - s3) / (s1 + s3))) : 0.0;
   m.q = m.stress.m[2][2] - std::min(m.stress.m[0][0], m.stress.m[1][1]);
   const Vec3 e = cell_.log_strain();
   m.strain = {-e.x, -e.y, -e.z};
@@ -175,6 +180,14 @@ Measures Simulation::measures() const {
   m.max_overlap_ratio = cs.max_overlap_ratio;
   m.energy = energy_;
   return m;
+}
+
+Mat3 Simulation::current_stress() const {
+  Mat3 s;
+  if (last_force_volume_ <= 0.0) return s;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) s.m[a][b] = 0.5 * (last_virial_.m[a][b] + last_virial_.m[b][a]) / last_force_volume_;
+  return s;
 }
 
 SimulationState Simulation::state() const {

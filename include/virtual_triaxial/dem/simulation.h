@@ -62,6 +62,10 @@ class Simulation {
 
   /// Measures of the last measured step (call step(true) first).
   Measures measures() const;
+  /// Stress [Pa] of the last force evaluation (every step, cheap):
+  /// Love-Weber average (eq. 127), symmetrised, compression positive.
+  Mat3 current_stress() const;
+  double current_mean_stress() const { return current_stress().trace() / 3.0; }
   bool unstable() const { return !failure_.empty(); }
   const std::string& failure() const { return failure_; }
 
@@ -106,6 +110,8 @@ class Simulation {
   double time_ = 0;
   std::int64_t steps_ = 0;
   double last_max_disp2_ = 0;
+  Mat3 last_virial_;
+  double last_force_volume_ = 0;
   // Data of the last measured step.
   ContactSums last_contacts_;
   IntegrationSums last_integration_;

@@ -13,6 +13,7 @@
 #include "virtual_triaxial/dem/material.h"
 #include "virtual_triaxial/dem/stability_monitor.h"
 #include "virtual_triaxial/dem/vec3.h"
+#include "virtual_triaxial/protocol/stage_spec.h"
 
 namespace vt::io {
 
@@ -42,25 +43,10 @@ struct DistributionSpec {
 
 enum class ParticleSource { Distribution, List, SampleFile };
 
-enum class StageType { IsotropicCompression, UndrainedShear, Relax };
-
-struct StopCriteria {
-  std::optional<double> mean_stress;    ///< stop when p >= this [Pa]
-  std::optional<double> axial_strain;   ///< stop when eps_a >= this (compression +)
-  std::optional<std::int64_t> steps;    ///< stop after this many steps in the stage
-  std::optional<double> ufr_below;      ///< stop when UFR < this (Relax)
-};
-
-struct StageSpec {
-  std::string name;
-  StageType type = StageType::IsotropicCompression;
-  /// Dimensionless strain rate eps' = eps_dot T0 (compression positive);
-  /// for undrained shear, the axial rate. Exactly one of the two is given.
-  std::optional<double> strain_rate_dimensionless;
-  std::optional<double> strain_rate;    ///< [1/s], compression positive
-  int axial_axis = 2;                   ///< 0 = x, 1 = y, 2 = z
-  StopCriteria stop;
-};
+// Stages live in the ROS-free protocol library; the scene refers to them.
+using protocol::StageSpec;
+using protocol::StageType;
+using protocol::StopCriteria;
 
 struct OutputSpec {
   std::int64_t interval = 100;         ///< steps between recorded samples

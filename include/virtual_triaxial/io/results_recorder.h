@@ -1,0 +1,36 @@
+// Connects a StageRunner to the HDF5 results file and the terminal: every
+// sample is appended to the results time series (flushed to disk at least
+// every `flush_seconds`, atomically, so a killed run keeps its history);
+// progress lines go to stderr.
+#pragma once
+
+#include <chrono>
+#include <string>
+
+#include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/io/results_file.h"
+#include "virtual_triaxial/io/scene_config.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
+
+namespace vt::io {
+
+class ResultsRecorder : public protocol::RunObserver {
+ public:
+  ResultsRecorder(const std::string& path, bool quiet, double flush_seconds = 20.0);
+  void on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) override;
+  void on_sample(const protocol::StageSpec& st, const dem::Measures& m) override;
+  void on_progress(const std::string& line) override;
+
+  /// Write the summary attributes and flush the file.
+  void finish(const protocol::RunReport& report, const dem::Simulation& sim);
+  /// Save a sample file (restartable state) with the scene's provenance.
+  void save_sample(const std::string& path, const dem::SimulationState& s, const SceneConfig& scene) const;
+
+ private:
+  ResultsWriter writer_;
+  bool quiet_;
+  double flush_seconds_;
+  std::chrono::steady_clock::time_point last_flush_;
+};
+
+}  // namespace vt::io

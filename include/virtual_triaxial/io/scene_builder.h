@@ -1,0 +1,19 @@
+// Builds the Simulation a scene describes.
+//   distribution  loose cloud (phase 1 of chapter 4.3.1) from the size
+//                 distribution, seed, aspect ratios and initial void ratio;
+//   list          the explicit particles in a cell of the given lengths;
+//   sample_file   a saved sample, continued exactly. Material (density,
+//                 modulus, Poisson ratio) comes from the sample because the
+//                 particle masses were made with it; friction, damping, c_t
+//                 and stability limits come from the scene.
+#pragma once
+
+#include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/io/scene_config.h"
+
+namespace vt::io {
+
+dem::SimulationSettings settings_from_scene(const SceneConfig& scene);
+dem::Simulation build_simulation(const SceneConfig& scene);
+
+}  // namespace vt::io

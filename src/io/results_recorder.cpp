@@ -1,0 +1,74 @@
+#include "virtual_triaxial/io/results_recorder.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "virtual_triaxial/io/sample_file.h"
+
+namespace vt::io {
+
+ResultsRecorder::ResultsRecorder(const std::string& path, bool quiet, double flush_seconds)
+    : writer_(path), quiet_(quiet), flush_seconds_(flush_seconds), last_flush_(std::chrono::steady_clock::now()) {}
+
+void ResultsRecorder::on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) {
+  if (quiet_) return;
+  const double rate = st.strain_rate ? *st.strain_rate
+                                     : (st.strain_rate_dimensionless ? *st.strain_rate_dimensionless / sim.time_scale().t0 : 0.0);
+  std::fprintf(stderr, "[%s] start: %s, strain rate %.4g 1/s (eps' = %.3g)\n", st.name.c_str(),
+               protocol::to_string(st.type), rate, rate * sim.time_scale().t0);
+}
+
+void ResultsRecorder::on_sample(const protocol::StageSpec&, const dem::Measures& m) {
+  writer_.append(m);
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - last_flush_).count() >= flush_seconds_) {
+    writer_.flush();
+    last_flush_ = now;
+  }
+}
+
+void ResultsRecorder::on_progress(const std::string& line) {
+  if (!quiet_) std::fprintf(stderr, "%s\n", line.c_str());
+}
+
+void ResultsRecorder::finish(const protocol::RunReport& r, const dem::Simulation& sim) {
+  std::map<std::string, double> num;
+  std::map<std::string, std::string> txt;
+  txt["verdict"] = protocol::to_string(r.verdict);
+  txt["failure"] = r.failure;
+  num["steps"] = static_cast<double>(r.steps);
+  num["wall_seconds"] = r.wall_seconds;
+  num["particles"] = static_cast<double>(sim.particles().size());
+  num["t0_s"] = sim.time_scale().t0;
+  num["dt_s"] = sim.dt();
+  num["l0_m"] = sim.time_scale().l0;
+  if (r.shear.has_data) {
+    num["e0"] = r.shear.e0;
+    num["phi_peak_rad"] = r.shear.phi_peak;
+    num["eps_peak"] = r.shear.eps_peak;
+    num["q_peak_pa"] = r.shear.q_peak;
+    num["phi_end_rad"] = r.shear.phi_end;
+    num["p_end_pa"] = r.shear.p_end;
+    num["q_end_pa"] = r.shear.q_end;
+    num["mean_moment_index_to_peak"] = r.shear.mean_moment_index_to_peak;
+    txt["quasi_static"] = r.shear.quasi_static ? "yes" : "no";
+  }
+  num["energy_relative_balance_error"] = sim.energy().relative_balance_error();
+  writer_.set_summary(num, txt);
+  writer_.flush();
+}
+
+void ResultsRecorder::save_sample(const std::string& path, const dem::SimulationState& s,
+                                  const SceneConfig& scene) const {
+  SampleMetadata meta;
+  meta.seed = scene.distribution.seed;
+  meta.friction_during_shrinkage = NAN;
+  meta.target_pressure = NAN;
+  meta.initial_void_ratio = NAN;
+  meta.software_version = "virtual_triaxial 0.1.0";
+  meta.created_by = "triax_run " + scene.source_path;
+  meta.description = "state saved by triax_run";
+  write_sample(path, s, meta);
+}
+
+}  // namespace vt::io

@@ -1,0 +1,60 @@
+#include "virtual_triaxial/io/run_summary_json.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace vt::io {
+
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      o += b;
+    } else o += c;
+  }
+  return o + "\"";
+}
+
+std::string number(double x) {
+  if (!std::isfinite(x)) return "null";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+
+}  // namespace
+
+std::string run_summary_json(const protocol::RunReport& r, const dem::Simulation& sim, const std::string& results) {
+  std::ostringstream o;
+  o << "{\"verdict\":" << quoted(protocol::to_string(r.verdict));
+  if (!r.failure.empty()) o << ",\"failure\":" << quoted(r.failure);
+  o << ",\"stages\":[";
+  for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    const protocol::StageOutcome& s = r.stages[i];
+    o << (i ? "," : "") << "{\"name\":" << quoted(s.name) << ",\"type\":" << quoted(protocol::to_string(s.type))
+      << ",\"steps\":" << s.steps << ",\"stop\":" << quoted(s.stop_reason) << "}";
+  }
+  o << "],\"steps\":" << r.steps << ",\"wall_seconds\":" << number(r.wall_seconds)
+    << ",\"particles\":" << sim.particles().size() << ",\"t0_s\":" << number(sim.time_scale().t0)
+    << ",\"dt_s\":" << number(sim.dt());
+  if (r.shear.has_data) {
+    const double deg = 180.0 / M_PI;
+    o << ",\"e0\":" << number(r.shear.e0) << ",\"phi_peak_deg\":" << number(r.shear.phi_peak * deg)
+      << ",\"eps_peak\":" << number(r.shear.eps_peak) << ",\"q_peak_pa\":" << number(r.shear.q_peak)
+      << ",\"phi_end_deg\":" << number(r.shear.phi_end * deg) << ",\"eps_end\":" << number(r.shear.eps_end)
+      << ",\"p_end_pa\":" << number(r.shear.p_end) << ",\"q_end_pa\":" << number(r.shear.q_end)
+      << ",\"mean_moment_index_to_peak\":" << number(r.shear.mean_moment_index_to_peak)
+      << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false");
+  }
+  o << ",\"energy_relative_balance_error\":" << number(sim.energy().relative_balance_error())
+    << ",\"results\":" << quoted(results) << "}";
+  return o.str();
+}
+
+}  // namespace vt::io

@@ -1,0 +1,33 @@
+#include "virtual_triaxial/protocol/shear_summary.h"
+
+namespace vt::protocol {
+
+void ShearSummaryBuilder::add(const dem::Measures& m) {
+  if (!s_.has_data) {
+    s_.has_data = true;
+    s_.e0 = m.void_ratio;
+  }
+  ++s_.samples;
+  sum_imom_ += m.moment_index;
+  const double eps = m.strain[axis_];
+  if (m.phi > s_.phi_peak || s_.samples == 1) {
+    s_.phi_peak = m.phi;
+    s_.eps_peak = eps;
+    s_.q_peak = m.q;
+    sum_imom_at_peak_ = sum_imom_;
+    n_at_peak_ = s_.samples;
+  }
+  s_.phi_end = m.phi;
+  s_.eps_end = eps;
+  s_.p_end = m.p;
+  s_.q_end = m.q;
+}
+
+ShearSummary ShearSummaryBuilder::summary() const {
+  ShearSummary s = s_;
+  s.mean_moment_index_to_peak = n_at_peak_ > 0 ? sum_imom_at_peak_ / static_cast<double>(n_at_peak_) : 0.0;
+  s.quasi_static = s.has_data && s.mean_moment_index_to_peak < i_qs_;
+  return s;
+}
+
+}  // namespace vt::protocol

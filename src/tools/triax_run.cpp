@@ -1,0 +1,89 @@
+// triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--quiet]
+//
+// Runs a scene headless: prints progress on stderr, writes an HDF5 time
+// series of all measures, prints a JSON summary as its last stdout line.
+// Exit codes: 0 completed, 2 bad input, 3 numerical failure (unstable),
+// 4 a stage hit the step limit before its stop criterion.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "virtual_triaxial/io/scene_builder.h"
+#include "virtual_triaxial/io/scene_error.h"
+#include "virtual_triaxial/io/scene_parser.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
+#include "virtual_triaxial/io/results_recorder.h"
+#include "virtual_triaxial/io/run_summary_json.h"
+
+namespace {
+
+struct Args {
+  std::string scene, out = "results.h5", save_sample;
+  bool quiet = false;
+};
+
+int usage(const char* msg) {
+  std::fprintf(stderr, "triax_run: %s\nusage: triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--quiet]\n", msg);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    if ((s == "--out" || s == "--save-sample") && i + 1 < argc) (s == "--out" ? a.out : a.save_sample) = argv[++i];
+    else if (s == "--quiet") a.quiet = true;
+    else if (s == "-h" || s == "--help") return usage("help"), 0;
+    else if (!s.empty() && s[0] == '-') return usage(("unknown option " + s).c_str());
+    else if (a.scene.empty()) a.scene = s;
+    else return usage(("unexpected argument " + s).c_str());
+  }
+  if (a.scene.empty()) return usage("missing SCENE.yaml");
+
+  vt::io::SceneConfig scene;
+  try {
+    scene = vt::io::load_scene(a.scene);
+  } catch (const vt::io::SceneError& e) {
+    std::fprintf(stderr, "triax_run: error: %s\n", e.what());
+    return 2;
+  }
+  if (scene.time_step_warning)
+    std::fprintf(stderr, "triax_run: warning: time_step_ratio = %g >= 1: the time step exceeds the critical "
+                         "estimate T0 (eq. 91-92); expect an unstable run\n", scene.time_step_ratio);
+  try {
+    vt::dem::Simulation sim = vt::io::build_simulation(scene);
+    vt::io::ResultsRecorder recorder(a.out, a.quiet);
+    std::fprintf(stderr, "triax_run: %zu particles, L0 = %.4g m, T0 = %.4g s, dt = %.4g s (c_t = %g), damping %s xi = %g\n",
+                 sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0, sim.dt(),
+                 sim.time_scale().ct, vt::dem::to_string(scene.damping.model()), scene.damping.ratio());
+    vt::protocol::RunOptions opt;
+    opt.sample_interval = scene.output.interval;
+    opt.progress_seconds = a.quiet ? 0.0 : scene.output.progress_seconds;
+    vt::protocol::StageRunner runner(sim, opt);
+    const vt::protocol::RunReport report = runner.run(scene.stages, recorder);
+    recorder.finish(report, sim);
+    if (report.verdict == vt::protocol::Verdict::Unstable && report.last_good) {
+      const std::string path = a.out + ".last_good.h5";
+      recorder.save_sample(path, *report.last_good, scene);
+      std::fprintf(stderr, "triax_run: unstable: %s\ntriax_run: last good state saved to %s\n",
+                   report.failure.c_str(), path.c_str());
+    }
+    if (!a.save_sample.empty()) recorder.save_sample(a.save_sample, sim.state(), scene);
+    std::printf("%s\n", vt::io::run_summary_json(report, sim, a.out).c_str());
+    switch (report.verdict) {
+      case vt::protocol::Verdict::Completed: return 0;
+      case vt::protocol::Verdict::Unstable: return 3;
+      case vt::protocol::Verdict::StepLimit: return 4;
+    }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "triax_run: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "triax_run: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
