@@ -84,12 +84,12 @@ TEST(SceneParser, DefaultSceneHasTheExpectedValues) {
   EXPECT_EQ(c.distribution.radius_max, 1.2e-3);
   EXPECT_TRUE(c.distribution.types.empty());
   EXPECT_EQ(c.distribution.seed, 42u);
-  EXPECT_EQ(c.distribution.initial_void_ratio, 1.2);
+  EXPECT_EQ(c.distribution.initial_void_ratio, 1.8);
   EXPECT_EQ(c.cell_aspect.x, 1.0);
   EXPECT_EQ(c.cell_aspect.y, 1.0);
   EXPECT_EQ(c.cell_aspect.z, 1.0);
   EXPECT_EQ(c.damping.model(), vt::dem::DampingModel::OD);
-  EXPECT_EQ(c.damping.ratio(), 0.05);
+  EXPECT_EQ(c.damping.ratio(), 0.003);
   EXPECT_EQ(c.time_step_ratio, 0.3);
   EXPECT_FALSE(c.time_step_warning);
   EXPECT_EQ(c.stability.max_overlap_ratio, 0.1);
@@ -97,7 +97,7 @@ TEST(SceneParser, DefaultSceneHasTheExpectedValues) {
   ASSERT_EQ(c.stages.size(), 3u);
 
   EXPECT_EQ(c.stages[0].type, StageType::IsotropicCompression);
-  EXPECT_EQ(c.stages[0].strain_rate_dimensionless, 2.0e-4);
+  EXPECT_EQ(c.stages[0].strain_rate_dimensionless, 1.0e-5);
   EXPECT_FALSE(c.stages[0].strain_rate);
   EXPECT_EQ(c.stages[0].stop.mean_stress, 100e3);
   EXPECT_FALSE(c.stages[0].stop.steps);
