@@ -20,5 +20,10 @@ mkdir -p "${out_dir}"
 out="${out_dir}/results.h5"
 
 echo "[run] ${exe} config/scenes/default.yaml --out ${out} $*"
-"${exe}" config/scenes/default.yaml --out "${out}" "$@"
-echo "[run] results written to $(cd "${out_dir}" && pwd)/results.h5"
+rc=0
+"${exe}" config/scenes/default.yaml --out "${out}" "$@" || rc=$?
+if [[ -f "${out}" ]]; then
+  /usr/bin/python3 scripts/plot_results.py "${out}" || echo "[run] warning: plotting failed" >&2
+fi
+echo "[run] results written to $(cd "${out_dir}" && pwd)/results.h5 (exit code ${rc})"
+exit "${rc}"

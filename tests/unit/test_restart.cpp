@@ -6,7 +6,11 @@
 
 #include <cstring>
 
+#include <filesystem>
+#include <unistd.h>
+
 #include "support/scenes.h"
+#include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/dem/simulation.h"
 
 using namespace vt::dem;
@@ -65,6 +69,22 @@ TEST(Restart, InMemoryStateContinuesBitForBit) {
   expect_same_state(straight.state(), second.state());
   // And the run did move: springs differ from the start.
   EXPECT_FALSE(same_bits(start.particles.frac, straight.state().particles.frac));
+}
+
+TEST(Restart, ThroughASampleFileContinuesBitForBit) {
+  const SimulationState start = loaded_packing();
+  Simulation straight(start);
+  ASSERT_EQ(straight.run(2000), 2000);
+
+  Simulation first(start);
+  ASSERT_EQ(first.run(1000), 1000);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("vt_restart_" + std::to_string(::getpid()) + ".h5")).string();
+  vt::io::write_sample(path, first.state(), vt::io::SampleMetadata{});
+  Simulation second(vt::io::read_sample(path));
+  std::filesystem::remove(path);
+  ASSERT_EQ(second.run(1000), 1000);
+  expect_same_state(straight.state(), second.state());
 }
 
 TEST(Restart, ResultIsIndependentOfThreadCount) {
