@@ -44,7 +44,12 @@ AtomicFile::AtomicFile(const std::string& path)
   Handle fapl = plist_handle(H5Pcreate(H5P_FILE_ACCESS));
   if (!fapl || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI) < 0)
     throw std::runtime_error(with_reason(path + ": cannot set up file access properties"));
-  file_ = file_handle(H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()));
+  // No modification times on the root group either: identical content gives
+  // identical bytes.
+  const hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (fcpl >= 0) H5Pset_obj_track_times(fcpl, false);
+  file_ = file_handle(H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, fapl.get()));
+  if (fcpl >= 0) H5Pclose(fcpl);
   if (!file_) {
     std::remove(temp_.c_str());
     throw std::runtime_error(with_reason(path + ": cannot create temporary file '" + temp_ + "'"));

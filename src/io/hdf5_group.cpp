@@ -9,6 +9,14 @@
 namespace vt::io::h5 {
 
 namespace {
+// Object creation properties without modification-time tracking, so that the
+// same content always gives the same bytes (reproducible sample files).
+hid_t untimed_creation_plist(hid_t cls) {
+  const hid_t p = H5Pcreate(cls);
+  if (p >= 0) H5Pset_obj_track_times(p, false);
+  return p;
+}
+
 
 template <class T>
 struct Traits;
@@ -159,7 +167,9 @@ bool Group::has(const std::string& name) const {
 
 Group Group::create_group(const std::string& name) const {
   ErrorSilencer quiet;
-  Handle g = group_handle(H5Gcreate2(id(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  const hid_t gcpl = untimed_creation_plist(H5P_GROUP_CREATE);
+  Handle g = group_handle(H5Gcreate2(id(), name.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT));
+  H5Pclose(gcpl);
   if (!g) fail(name, with_reason("cannot create group"));
   return Group(std::move(g), file_, child_path(name));
 }
@@ -193,8 +203,10 @@ void Group::write(const std::string& name, const std::vector<T>& data, std::size
   if (cols != 0) dims.push_back(static_cast<hsize_t>(cols));
   Handle space = dataspace_handle(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr));
   if (!space) fail(name, with_reason("cannot create dataspace"));
+  const hid_t dcpl = untimed_creation_plist(H5P_DATASET_CREATE);
   Handle ds = dataset_handle(H5Dcreate2(id(), name.c_str(), Traits<T>::file(), space.get(), H5P_DEFAULT,
-                                        H5P_DEFAULT, H5P_DEFAULT));
+                                        dcpl, H5P_DEFAULT));
+  H5Pclose(dcpl);
   if (!ds) fail(name, with_reason("cannot create dataset"));
   if (!data.empty() &&
       H5Dwrite(ds.get(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
@@ -211,8 +223,10 @@ void Group::write_scalar(const std::string& name, T value, const std::string& un
   ErrorSilencer quiet;
   Handle space = dataspace_handle(H5Screate(H5S_SCALAR));
   if (!space) fail(name, with_reason("cannot create dataspace"));
+  const hid_t dcpl = untimed_creation_plist(H5P_DATASET_CREATE);
   Handle ds = dataset_handle(H5Dcreate2(id(), name.c_str(), Traits<T>::file(), space.get(), H5P_DEFAULT,
-                                        H5P_DEFAULT, H5P_DEFAULT));
+                                        dcpl, H5P_DEFAULT));
+  H5Pclose(dcpl);
   if (!ds) fail(name, with_reason("cannot create dataset"));
   if (H5Dwrite(ds.get(), Traits<T>::mem(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0)
     fail(name, with_reason("cannot write"));

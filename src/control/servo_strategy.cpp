@@ -1,0 +1,68 @@
+// ServoStrategy base (targets, mask, tolerance check), parameter validation
+// and the strategy factory. See servo_strategy.h.
+#include "virtual_triaxial/control/servo_strategy.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "virtual_triaxial/control/proportional_servo.h"
+
+namespace vt::control {
+
+namespace {
+const char* const kAxisName[3] = {"x", "y", "z"};
+}  // namespace
+
+bool AxisMask::operator[](int i) const {
+  switch (i) {
+    case 0: return x;
+    case 1: return y;
+    case 2: return z;
+    default: throw std::out_of_range("AxisMask: axis index " + std::to_string(i) + " not in 0..2");
+  }
+}
+
+void validate_servo_parameters(const ServoParameters& p) {
+  if (!(std::isfinite(p.gain) && p.gain > 0.0 && p.gain <= 1.0))
+    throw std::invalid_argument("ServoParameters: gain must be in (0, 1], got " +
+                                std::to_string(p.gain));
+  if (!(std::isfinite(p.max_strain_rate) && p.max_strain_rate > 0.0))
+    throw std::invalid_argument(
+        "ServoParameters: max_strain_rate [1/s] must be finite and > 0, got " +
+        std::to_string(p.max_strain_rate));
+}
+
+void ServoStrategy::store_targets(const dem::Vec3& target_stress) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(target_stress[i]))
+      throw std::invalid_argument(std::string("servo '") + name() + "': target_stress." +
+                                  kAxisName[i] + " is not finite");
+  targets_ = target_stress;
+}
+
+void ServoStrategy::require_initialised(const char* what) const {
+  if (!initialised_)
+    throw std::logic_error(std::string("servo '") + name() + "': " + what +
+                           " called before init()");
+}
+
+bool ServoStrategy::within(const dem::Vec3& stress, double tol) const {
+  require_initialised("within()");
+  if (!(std::isfinite(tol) && tol >= 0.0))
+    throw std::invalid_argument("servo within(): tol must be finite and >= 0, got " +
+                                std::to_string(tol));
+  for (int i = 0; i < 3; ++i) {
+    if (!axes_[i]) continue;
+    // written so that a NaN stress compares false
+    if (!(std::abs(stress[i] - targets_[i]) <= tol * std::abs(targets_[i]))) return false;
+  }
+  return true;
+}
+
+std::unique_ptr<ServoStrategy> make_servo(const std::string& name, const ServoParameters& p) {
+  if (name == "proportional") return std::make_unique<ProportionalServo>(p);
+  throw std::invalid_argument("make_servo: unknown servo strategy '" + name +
+                              "' (known: proportional)");
+}
+
+}  // namespace vt::control
