@@ -98,6 +98,12 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   const std::int64_t cap = st.stop.steps ? *st.stop.steps : options_.max_steps_per_stage;
   bool ok = true;
   dem::Measures last{};
+  auto mark_unstable = [&]() {
+    report.verdict = Verdict::Unstable;
+    report.failure = sim_.failure();
+    out.stop_reason = "unstable: " + sim_.failure();
+    return false;
+  };
   auto record = [&]() {
     last = sim_.measures();
     obs.on_sample(st, last);
@@ -107,10 +113,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   while (true) {
     const bool sample = k % options_.sample_interval == 0;
     if (!sim_.step(sample)) {
-      ok = false;
-      report.verdict = Verdict::Unstable;
-      report.failure = sim_.failure();
-      out.stop_reason = "unstable: " + sim_.failure();
+      ok = mark_unstable();
       break;
     }
     ++k;
@@ -119,10 +122,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     if (!why.empty()) {
       if (!sample) {  // one more step so that the stage ends on a sample
         if (!sim_.step(true)) {
-          ok = false;
-          report.verdict = Verdict::Unstable;
-          report.failure = sim_.failure();
-          out.stop_reason = "unstable: " + sim_.failure();
+          ok = mark_unstable();
           break;
         }
         ++k;

@@ -2,44 +2,26 @@
 // provenance; bad inputs (empty PSD, fractions not summing to 1, pressure <= 0,
 // mu1 < 0, unwritable output) give exit code 2 and an error naming the field.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "support/cli.h"
 #include "virtual_triaxial/io/sample_file.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
+using vt::test::CliRun;
 
 fs::path tmp() {
-  static fs::path d = [] {
-    fs::path p = fs::temp_directory_path() / ("vt_prep_cli_" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-  }();
+  static const fs::path d = vt::test::scratch_dir("prep_cli");
   return d;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
-CliRun prepare(const std::string& args) {
-  const fs::path exe = fs::path(VT_BINARY_DIR) / "devel/lib/virtual_triaxial/triax_prepare";
-  const std::string cmd = exe.string() + " " + args + " >" + (tmp() / "o").string() + " 2>" + (tmp() / "e").string();
-  const int st = std::system(cmd.c_str());
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, slurp(tmp() / "o"), slurp(tmp() / "e")};
-}
+CliRun prepare(const std::string& args) { return vt::test::run_program("triax_prepare", args, tmp()); }
 
 fs::path psd(const std::string& name, const std::string& types) {
   const fs::path p = tmp() / name;

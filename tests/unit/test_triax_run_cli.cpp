@@ -4,7 +4,6 @@
 // `unstable`, exit code 3, within a few hundred steps, and the results file
 // keeps the history up to the last good output.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -13,6 +12,7 @@
 #include <string>
 
 #include "virtual_triaxial/io/results_file.h"
+#include "support/cli.h"
 #include "virtual_triaxial/dem/random_stream.h"
 
 namespace fs = std::filesystem;
@@ -20,36 +20,15 @@ using namespace vt::dem;
 
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
+using vt::test::CliRun;
+using vt::test::slurp;
 
 fs::path tmpdir() {
-  static fs::path d = [] {
-    fs::path p = fs::temp_directory_path() / ("vt_cli_" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-  }();
+  static const fs::path d = vt::test::scratch_dir("cli");
   return d;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
-
-CliRun triax_run(const std::string& args) {
-  const fs::path exe = fs::path(VT_BINARY_DIR) / "devel/lib/virtual_triaxial/triax_run";
-  const fs::path o = tmpdir() / "stdout.txt", e = tmpdir() / "stderr.txt";
-  const std::string cmd = exe.string() + " " + args + " >" + o.string() + " 2>" + e.string();
-  const int st = std::system(cmd.c_str());
-  CliRun r;
-  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  r.out = slurp(o);
-  r.err = slurp(e);
-  return r;
-}
+CliRun triax_run(const std::string& args) { return vt::test::run_program("triax_run", args, tmpdir()); }
 
 fs::path write_scene(const std::string& name, const std::string& yaml) {
   const fs::path p = tmpdir() / name;
