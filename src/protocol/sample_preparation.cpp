@@ -39,10 +39,12 @@ class Preparer {
   PreparationResult run() {
     const auto t0 = Clock::now();
     generate();
-    if (shrink() && compress()) result_.converged = true;
-    result_.state = sim_->state();
-    sim_->step(true);  // measures of the prepared state (not kept in the sample)
-    result_.final = sim_->measures();
+    if (shrink() && compress()) {
+      result_.converged = true;
+    } else {
+      result_.state = sim_->state();  // the last state reached, for diagnosis
+      if (sim_->step(true)) result_.final = sim_->measures();
+    }
     const dem::Mat3& h = result_.state.h;
     result_.aspect = {h(0, 0) / h(0, 0), h(1, 1) / h(0, 0), h(2, 2) / h(0, 0)};
     result_.aspect = s_.aspect.x * result_.aspect;
@@ -99,10 +101,17 @@ class Preparer {
     for (; ph.cycles < s_.max_cycles && !done; ++ph.cycles) {
       const double r = rate / sim_->time_scale().t0;
       sim_->set_strain_rates({-r, -r, -r});
-      if (!run_steps(s_.shrink_steps, ph)) return false;
-      sim_->set_strain_rates({});
-      if (!run_steps(s_.balance_steps, ph)) return false;
-      const dem::Vec3 st = normal_stress(*sim_);
+      // A numerical failure while shrinking (an overlap beyond the limit at a
+      // high target pressure and a fast rate) is an overshoot too: restore
+      // and halve, like a stress above the target.
+      bool failed = !run_steps(s_.shrink_steps, ph);
+      if (!failed) {
+        sim_->set_strain_rates({});
+        failed = !run_steps(s_.balance_steps, ph);
+      }
+      if (failed && rate <= s_.shrink_rate_min) return false;
+      if (failed) result_.failure.clear();
+      const dem::Vec3 st = failed ? dem::Vec3{INFINITY, INFINITY, INFINITY} : normal_stress(*sim_);
       if (max3(st) > s_.pressure) {
         restore(good);
         if (rate <= s_.shrink_rate_min) {
@@ -111,8 +120,9 @@ class Preparer {
                   rate, static_cast<long long>(ph.cycles + 1)));
         } else {
           rate = std::max(0.5 * rate, s_.shrink_rate_min);
-          say(fmt("[shrinkage] stress %.1f kPa over the target: restored, eps' halved to %.3g (e %.4f)",
-                  max3(st) / 1e3, rate, sim_->cell().volume() / sim_->particles().solid_volume() - 1.0));
+          say(fmt("[shrinkage] %s: restored, eps' halved to %.3g (e %.4f)",
+                  failed ? "numerical failure" : fmt("stress %.1f kPa over the target", max3(st) / 1e3).c_str(), rate,
+                  sim_->cell().volume() / sim_->particles().solid_volume() - 1.0));
         }
       } else {
         good = sim_->state();
@@ -147,6 +157,9 @@ class Preparer {
       }
       sim_->set_strain_rates({});
       if (!run_steps(s_.balance_steps, ph)) return false;
+      // The criteria are judged on the first force evaluation of exactly the
+      // state that would be saved.
+      dem::SimulationState candidate = sim_->state();
       if (!sim_->step(true)) {
         result_.failure = "compression: numerical failure: " + sim_->failure();
         return false;
@@ -165,6 +178,8 @@ class Preparer {
                 m.coordination_number));
       if (ok) {
         servo->stop();
+        result_.state = std::move(candidate);
+        result_.final = m;
         ph.seconds = since(t);
         result_.phases.push_back(ph);
         return true;
