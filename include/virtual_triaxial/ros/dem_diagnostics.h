@@ -1,0 +1,53 @@
+// /diagnostics report of dem_node (diagnostic_msgs/DiagnosticArray, one
+// status "<node name>: simulation").
+//
+// Reports the time scale (T0, dt, c_t = dt/T0; WARN when c_t >= 1, i.e. the
+// step is at or above the critical estimate), the real-time factor (simulated
+// seconds per wall second since the previous report), tick and step counts,
+// lockstep timeouts per owner, refused cell commands and numerical failure
+// (ERROR). Level: ERROR when unstable, WARN on c_t >= 1 or when timeouts or
+// refused commands happened since the previous report, OK otherwise.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/time.h>
+
+namespace vt::ros {
+
+/// Snapshot of the node state that goes into a report.
+struct DemStatus {
+  std::string name;          ///< status name
+  double t0 = 0, dt = 0;     ///< [s]
+  std::uint64_t tick = 0;
+  std::int64_t step = 0;
+  double time = 0;           ///< simulation time [s]
+  std::uint64_t particles = 0;
+  bool paused = false, lockstep = true, unstable = false;
+  std::string failure;
+};
+
+class DemDiagnostics {
+ public:
+  void count_timeout(const std::string& owner);
+  void count_rejected(const std::string& reason);
+  std::uint64_t timeouts() const { return timeouts_; }
+  std::uint64_t rejected() const { return rejected_; }
+
+  /// Builds the report; stamp = simulation time (the rig's clock). The
+  /// real-time factor is measured between consecutive calls.
+  diagnostic_msgs::DiagnosticArray report(const DemStatus& s, ::ros::WallTime now);
+
+ private:
+  std::map<std::string, std::uint64_t> timeouts_by_owner_;
+  std::uint64_t timeouts_ = 0, rejected_ = 0;
+  std::uint64_t timeouts_reported_ = 0, rejected_reported_ = 0;
+  std::string last_rejection_;
+  double last_time_ = -1.0;
+  ::ros::WallTime last_wall_;
+};
+
+}  // namespace vt::ros

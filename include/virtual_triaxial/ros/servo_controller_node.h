@@ -1,0 +1,100 @@
+// servo_controller_node: the cell-pressure controller of the virtual rig
+// (DESIGN §6). A thin adapter between ROS and control::ServoStrategy.
+//
+// Parameters (private, `~`):
+//   target            (required) stress target of every controlled axis [Pa], >= 0
+//   strategy          "proportional"  control::make_servo name
+//   gain              0.5     dimensionless servo gain g (see proportional_servo.h)
+//   max_dimensionless_rate 1e-4  cap on |eps'| = |rate| T0 of the commands
+//                             (T0 from dem_node's get_info); must not exceed
+//                             dem_node's own ~max_dimensionless_rate
+//   axes              [0, 1]  cell axes to control (the lateral ones by default)
+//   owner             the node's name; the name used with claim_axes
+//   start_enabled     true    claim the axes at start (retried every 0.2 s
+//                             wall until dem_node is up)
+// Bad parameters: the constructor throws, naming the parameter.
+//
+// Wiring (relative to the node's namespace, i.e. the rig's): subscribes
+// `stress`, publishes `cell_command` and `servo_state`, calls dem_node's
+// `get_info`, `claim_axes`, `release_axes`. Before claiming it waits until
+// both topic connections to dem_node exist, so in lockstep mode no state of
+// a claimed tick is missed.
+//
+// Per Stress message of tick k: targets from the ramp at the message's
+// simulation time, ServoStrategy::update(time, dt, stress, stiffness), then a
+// CellCommand with tick k for the controlled axes and a ServoState.
+// The servo dt is Stress.control_period = DEM dt * publish_every, NOT the DEM
+// dt: dem_node applies the commanded rate for publish_every steps, so the
+// strain increment rate * control_period is the one the law intends
+// (g times the increment that cancels the error for the current stiffness).
+// With a proportional law the error lags a steady drift d per control tick by
+// about d/g, so shear tests want a small publish_every (see the rostest).
+//
+// Services, in the node's PRIVATE namespace (e.g. /servo/enable) so several
+// controllers can share a rig: set_confining_pressure (target for every
+// controlled axis, ramp in simulation seconds), set_axis_targets (per-axis
+// targets, ramp), enable (claim + start), disable (stop + release_axes).
+// Refusals name the field.
+// No ROS time is used (only WallTimer and message stamps), so use_sim_time
+// is harmless.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+
+#include "virtual_triaxial/SetAxisTargets.h"
+#include "virtual_triaxial/SetConfiningPressure.h"
+#include "virtual_triaxial/Stress.h"
+#include "virtual_triaxial/control/servo_strategy.h"
+#include "virtual_triaxial/ros/target_ramp.h"
+
+namespace vt::ros {
+
+class ServoControllerNode {
+ public:
+  ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh);
+
+ private:
+  void read_parameters();
+  /// get_info + claim_axes; "" on success, else why not (yet).
+  std::string try_claim();
+  /// release_axes; "" on success.
+  std::string release();
+  void on_retry(const ::ros::WallTimerEvent&);
+  void on_stress(const virtual_triaxial::Stress::ConstPtr& msg);
+  bool on_set_confining_pressure(virtual_triaxial::SetConfiningPressure::Request& rq,
+                                 virtual_triaxial::SetConfiningPressure::Response& rs);
+  bool on_set_axis_targets(virtual_triaxial::SetAxisTargets::Request& rq,
+                           virtual_triaxial::SetAxisTargets::Response& rs);
+  bool on_enable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+  bool on_disable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+  bool controls(int axis) const { return mask_[axis]; }
+
+  ::ros::NodeHandle nh_, pnh_;
+  std::string strategy_name_, owner_;
+  control::ServoParameters params_;
+  double max_dimensionless_rate_ = 1e-4;
+  std::vector<int> axes_;
+  control::AxisMask mask_{false, false, false};
+  std::unique_ptr<control::ServoStrategy> strategy_;
+  TargetRamp ramp_;
+  bool enabled_ = true, claimed_ = false;
+  double last_time_ = 0.0;   ///< simulation time of the newest Stress [s]
+  std::uint64_t last_tick_ = 0;  ///< tick of the newest Stress
+  bool has_tick_ = false;
+  std::uint64_t claim_tick_ = 0;  ///< dem_node's tick when our claim took effect
+  std::string last_wait_reason_;
+
+  ::ros::Subscriber stress_sub_;
+  ::ros::Publisher command_pub_, state_pub_;
+  ::ros::ServiceClient info_client_, claim_client_, release_client_;
+  std::vector<::ros::ServiceServer> services_;
+  ::ros::WallTimer retry_timer_;
+};
+
+}  // namespace vt::ros

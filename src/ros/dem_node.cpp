@@ -1,0 +1,390 @@
+// DemNode: the DEM specimen as a ROS node. See dem_node.h.
+#include "virtual_triaxial/ros/dem_node.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include "virtual_triaxial/Fabric.h"
+#include "virtual_triaxial/KineticEnergy.h"
+#include "virtual_triaxial/MomentIndex.h"
+#include "virtual_triaxial/Strain.h"
+#include "virtual_triaxial/Stress.h"
+#include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/dem/mass_damping.h"
+#include "virtual_triaxial/ros/measure_messages.h"
+#include "virtual_triaxial/ros/parameters.h"
+
+namespace vt::ros {
+
+namespace {
+
+/// Publisher queue per subscriber: deep enough that a recorder or test node
+/// never loses a tick of a fast lockstep run (the messages are small).
+constexpr std::uint32_t kQueue = 1000;
+
+constexpr const char* kUnits =
+    "SI (m, kg, s, Pa, N, J, rad); stress, strain and strain rates compression positive; "
+    "strain rates are logarithmic [1/s], eps' = rate * T0; header stamps are simulation time";
+
+std::vector<int> to_axes(const std::vector<std::uint8_t>& a) { return {a.begin(), a.end()}; }
+
+}  // namespace
+
+DemNode::DemNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh) {
+  nh_.setCallbackQueue(&queue_);
+  pnh_.setCallbackQueue(&queue_);
+  read_parameters();
+  advertise();
+  last_diagnostics_ = ::ros::WallTime::now();
+}
+
+void DemNode::read_parameters() {
+  const auto sample = optional_string(pnh_, "sample");
+  const auto scene = optional_string(pnh_, "scene");
+  if (sample.has_value() == scene.has_value())
+    throw std::invalid_argument("~sample / ~scene: give exactly one (HDF5 sample file or YAML scene)");
+
+  int every = 10;
+  pnh_.param("publish_every", every, 10);
+  if (every < 1) throw std::invalid_argument("~publish_every: must be an integer >= 1");
+  publish_every_ = every;
+  pnh_.param("lockstep", lockstep_, true);
+  lockstep_timeout_ = optional_double(pnh_, "lockstep_timeout").value_or(2.0);
+  if (!(std::isfinite(lockstep_timeout_) && lockstep_timeout_ > 0.0))
+    throw std::invalid_argument("~lockstep_timeout: must be > 0 wall seconds");
+  max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(1e-3);
+  if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
+    throw std::invalid_argument("~max_dimensionless_rate: must be > 0");
+  diagnostics_period_ = optional_double(pnh_, "diagnostics_period").value_or(1.0);
+  if (!(std::isfinite(diagnostics_period_) && diagnostics_period_ > 0.0))
+    throw std::invalid_argument("~diagnostics_period: must be > 0 wall seconds");
+  pnh_.param("start_paused", paused_, false);
+
+  SpecimenOverrides o;
+  o.damping_model = optional_string(pnh_, "damping_model");
+  o.damping_ratio = optional_double(pnh_, "damping_ratio");
+  o.time_step_ratio = optional_double(pnh_, "time_step_ratio");
+  const std::string bad = o.validate();
+  if (!bad.empty()) throw std::invalid_argument("~" + bad);
+  loader_ = std::make_unique<SpecimenLoader>(o);
+
+  try {
+    install(sample ? loader_->load_sample(*sample) : loader_->load_scene(*scene));
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string(sample ? "~sample: " : "~scene: ") + e.what());
+  }
+}
+
+void DemNode::install(Specimen s) {
+  if (!s.warning.empty()) ROS_WARN("dem_node: %s: %s", s.source.c_str(), s.warning.c_str());
+  arbiter_.set_limit(s.sim->time_scale().t0, max_dimensionless_rate_);
+  sim_ = std::move(s.sim);
+  meta_ = s.meta;
+  source_ = s.source;
+  arbiter_.reset_commands();
+  ROS_INFO("dem_node: %zu particles from %s; T0 %.4g s, dt %.4g s (c_t %.3g), %d steps per control tick, %s",
+           sim_->particles().size(), source_.c_str(), sim_->time_scale().t0, sim_->dt(),
+           sim_->settings().time_step_ratio, publish_every_, lockstep_ ? "lockstep" : "free-running");
+}
+
+void DemNode::advertise() {
+  stress_pub_ = nh_.advertise<virtual_triaxial::Stress>("stress", kQueue);
+  strain_pub_ = nh_.advertise<virtual_triaxial::Strain>("strain", kQueue);
+  moment_pub_ = nh_.advertise<virtual_triaxial::MomentIndex>("moment_index", kQueue);
+  energy_pub_ = nh_.advertise<virtual_triaxial::KineticEnergy>("kinetic_energy", kQueue);
+  fabric_pub_ = nh_.advertise<virtual_triaxial::Fabric>("fabric", kQueue);
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  diag_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  command_sub_ = nh_.subscribe("cell_command", kQueue, &DemNode::on_command, this,
+                               ::ros::TransportHints().tcpNoDelay());
+  services_.push_back(nh_.advertiseService("set_strain_rate", &DemNode::on_set_strain_rate, this));
+  services_.push_back(nh_.advertiseService("claim_axes", &DemNode::on_claim, this));
+  services_.push_back(nh_.advertiseService("release_axes", &DemNode::on_release, this));
+  services_.push_back(nh_.advertiseService("get_info", &DemNode::on_get_info, this));
+  services_.push_back(nh_.advertiseService("pause", &DemNode::on_pause, this));
+  services_.push_back(nh_.advertiseService("resume", &DemNode::on_resume, this));
+  services_.push_back(nh_.advertiseService("reset_strain", &DemNode::on_reset_strain, this));
+  services_.push_back(nh_.advertiseService("step", &DemNode::on_step, this));
+  services_.push_back(nh_.advertiseService("load_sample", &DemNode::on_load, this));
+  services_.push_back(nh_.advertiseService("save_sample", &DemNode::on_save, this));
+  services_.push_back(nh_.advertiseService("set_damping", &DemNode::on_set_damping, this));
+  services_.push_back(nh_.advertiseService("set_friction", &DemNode::on_set_friction, this));
+}
+
+// ---- loop ---------------------------------------------------------------------------
+
+bool DemNode::stepping() const { return !sim_->unstable() && (!paused_ || pending_ticks_ > 0); }
+
+void DemNode::spin() {
+  publish_clock();
+  publish_diagnostics();
+  while (::ros::ok()) {
+    queue_.callAvailable(stepping() ? ::ros::WallDuration(0) : ::ros::WallDuration(0.05));
+    if ((::ros::WallTime::now() - last_diagnostics_).toSec() >= diagnostics_period_) {
+      publish_diagnostics();
+      if (!stepping()) publish_clock();  // late joiners on use_sim_time get a clock
+    }
+    if (!stepping()) continue;
+    if (pending_ticks_ > 0) --pending_ticks_;
+    run_tick();
+  }
+}
+
+void DemNode::run_tick() {
+  const dem::Vec3 rates = arbiter_.rates();  // compression positive, log strain
+  const double dt = sim_->dt();
+  dem::Vec3 l;
+  for (int i = 0; i < 3; ++i) l[i] = std::expm1(-rates[i] * dt) / dt;
+  sim_->set_strain_rates(l);
+  for (int k = 0; k < publish_every_; ++k)
+    if (!sim_->step(k == publish_every_ - 1)) break;
+  if (sim_->unstable()) {
+    pending_ticks_ = 0;
+    ROS_ERROR("dem_node: numerical failure at step %lld, stepping stopped: %s",
+              static_cast<long long>(sim_->steps()), sim_->failure().c_str());
+    publish_diagnostics();
+    return;
+  }
+  ++tick_;
+  publish_state(rates);
+  publish_clock();
+  if (lockstep_) wait_for_commands();
+}
+
+void DemNode::wait_for_commands() {
+  const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(lockstep_timeout_);
+  while (::ros::ok()) {
+    const std::vector<std::string> missing = arbiter_.missing_owners(tick_);
+    if (missing.empty()) return;
+    const ::ros::WallTime now = ::ros::WallTime::now();
+    if (now >= deadline) {
+      std::string names;
+      for (const std::string& o : missing) {
+        diag_.count_timeout(o);
+        names += (names.empty() ? "" : ", ") + o;
+      }
+      ROS_WARN("dem_node: tick %llu: no cell_command from %s within %.3g s; holding the last command",
+               static_cast<unsigned long long>(tick_), names.c_str(), lockstep_timeout_);
+      publish_diagnostics();
+      return;
+    }
+    const double left = (deadline - now).toSec();
+    queue_.callAvailable(::ros::WallDuration(std::min(left, 0.01)));
+  }
+}
+
+void DemNode::publish_state(const dem::Vec3& rates) {
+  const dem::Measures m = sim_->measures();
+  const TickStamp s{tick_, sim_->time()};
+  const dem::Vec3 stiffness = dem::axis_stiffness(*sim_);
+  const double period = sim_->dt() * publish_every_;
+  stress_pub_.publish(to_stress_msg(m, s, period, sim_->settings().material.young, stiffness));
+  strain_pub_.publish(to_strain_msg(m, s, rates, sim_->time_scale().t0));
+  moment_pub_.publish(to_moment_index_msg(m, s));
+  energy_pub_.publish(to_kinetic_energy_msg(m, s));
+  fabric_pub_.publish(to_fabric_msg(m, s));
+}
+
+void DemNode::publish_clock() {
+  rosgraph_msgs::Clock c;
+  c.clock.fromSec(sim_->time());
+  clock_pub_.publish(c);
+}
+
+void DemNode::publish_diagnostics() {
+  DemStatus s;
+  s.name = ::ros::this_node::getName() + ": simulation";
+  s.t0 = sim_->time_scale().t0;
+  s.dt = sim_->dt();
+  s.tick = tick_;
+  s.step = sim_->steps();
+  s.time = sim_->time();
+  s.particles = sim_->particles().size();
+  s.paused = paused_ && pending_ticks_ == 0;
+  s.lockstep = lockstep_;
+  s.unstable = sim_->unstable();
+  s.failure = sim_->failure();
+  last_diagnostics_ = ::ros::WallTime::now();
+  diag_pub_.publish(diag_.report(s, last_diagnostics_));
+}
+
+// ---- callbacks ----------------------------------------------------------------------
+
+void DemNode::on_command(const virtual_triaxial::CellCommand::ConstPtr& msg) {
+  const std::string bad =
+      arbiter_.command(msg->owner, msg->tick, to_axes(msg->axes), msg->strain_rate, tick_, lockstep_);
+  if (!bad.empty()) {
+    diag_.count_rejected("'" + msg->owner + "' tick " + std::to_string(msg->tick) + ": " + bad);
+    ROS_WARN_THROTTLE(1.0, "dem_node: cell_command from '%s' refused: %s", msg->owner.c_str(), bad.c_str());
+  }
+}
+
+bool DemNode::on_set_strain_rate(virtual_triaxial::SetStrainRate::Request& rq,
+                                 virtual_triaxial::SetStrainRate::Response& rs) {
+  const double rate = rq.dimensionless ? rq.strain_rate / sim_->time_scale().t0 : rq.strain_rate;
+  rs.message = arbiter_.set_open_loop_rate(rq.axis, rate);
+  rs.success = rs.message.empty();
+  if (rs.success)
+    rs.message = "axis " + std::to_string(rq.axis) + ": " + std::to_string(rate) + " 1/s (eps' " +
+                 std::to_string(rate * sim_->time_scale().t0) + ") from the next control tick";
+  return true;
+}
+
+bool DemNode::on_claim(virtual_triaxial::ClaimAxes::Request& rq, virtual_triaxial::ClaimAxes::Response& rs) {
+  rs.message = arbiter_.claim(rq.owner, to_axes(rq.axes), tick_);
+  rs.success = rs.message.empty();
+  rs.tick = tick_;
+  if (rs.success) rs.message = "claimed by '" + rq.owner + "'";
+  return true;
+}
+
+bool DemNode::on_release(virtual_triaxial::ReleaseAxes::Request& rq, virtual_triaxial::ReleaseAxes::Response& rs) {
+  rs.message = arbiter_.release(rq.owner, to_axes(rq.axes));
+  rs.success = rs.message.empty();
+  if (rs.success) rs.message = "released by '" + rq.owner + "' (open loop, rate 0)";
+  return true;
+}
+
+bool DemNode::on_get_info(virtual_triaxial::GetInfo::Request&, virtual_triaxial::GetInfo::Response& rs) {
+  const dem::TimeScale& ts = sim_->time_scale();
+  const dem::SimulationSettings& st = sim_->settings();
+  rs.t0 = ts.t0;
+  rs.dt = sim_->dt();
+  rs.l0 = ts.l0;
+  rs.time_step_ratio = st.time_step_ratio;
+  rs.particles = static_cast<std::uint32_t>(sim_->particles().size());
+  rs.time = sim_->time();
+  rs.tick = tick_;
+  rs.step = sim_->steps();
+  rs.publish_every = static_cast<std::uint32_t>(publish_every_);
+  rs.lockstep = lockstep_;
+  rs.paused = paused_;
+  rs.unstable = sim_->unstable();
+  rs.failure = sim_->failure();
+  rs.units = kUnits;
+  const dem::Vec3 r = arbiter_.rates();
+  for (int i = 0; i < 3; ++i) {
+    rs.axis_owners[static_cast<std::size_t>(i)] = arbiter_.owner(i);
+    rs.strain_rate[static_cast<std::size_t>(i)] = r[i];
+  }
+  rs.max_dimensionless_rate = max_dimensionless_rate_;
+  rs.damping_model = dem::to_string(st.damping.model());
+  rs.damping_ratio = st.damping.ratio();
+  rs.friction = st.material.friction;
+  rs.density = st.material.density;
+  rs.young_modulus = st.material.young;
+  rs.poisson_ratio = st.material.poisson;
+  rs.lockstep_timeouts = diag_.timeouts();
+  rs.rejected_commands = diag_.rejected();
+  rs.source = source_;
+  return true;
+}
+
+bool DemNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  paused_ = true;
+  pending_ticks_ = 0;
+  rs.success = true;
+  rs.message = "paused after tick " + std::to_string(tick_);
+  return true;
+}
+
+bool DemNode::on_resume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  if (sim_->unstable()) {
+    rs.success = false;
+    rs.message = "unstable: " + sim_->failure() + " (load_sample to continue)";
+    return true;
+  }
+  paused_ = false;
+  rs.success = true;
+  rs.message = "running from tick " + std::to_string(tick_);
+  return true;
+}
+
+bool DemNode::on_reset_strain(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  sim_->reset_strain_reference();
+  rs.success = true;
+  rs.message = "strain reference reset at tick " + std::to_string(tick_);
+  return true;
+}
+
+bool DemNode::on_step(virtual_triaxial::Step::Request& rq, virtual_triaxial::Step::Response& rs) {
+  rs.success = false;
+  if (rq.count == 0)
+    rs.message = "count: must be >= 1";
+  else if (!paused_)
+    rs.message = "count: the node is running; call pause first";
+  else if (sim_->unstable())
+    rs.message = "count: unstable: " + sim_->failure() + " (load_sample to continue)";
+  else {
+    pending_ticks_ += rq.count;
+    rs.success = true;
+    rs.message = "queued " + std::to_string(rq.count) + " control tick(s) after tick " + std::to_string(tick_);
+  }
+  return true;
+}
+
+bool DemNode::on_load(virtual_triaxial::LoadSample::Request& rq, virtual_triaxial::LoadSample::Response& rs) {
+  try {
+    install(loader_->load_sample(rq.path));
+  } catch (const std::exception& e) {
+    rs.success = false;
+    rs.message = std::string("path: ") + e.what();
+    return true;
+  }
+  pending_ticks_ = 0;
+  publish_clock();
+  rs.success = true;
+  rs.message = "loaded " + rq.path + " (" + std::to_string(sim_->particles().size()) + " particles)";
+  return true;
+}
+
+bool DemNode::on_save(virtual_triaxial::SaveSample::Request& rq, virtual_triaxial::SaveSample::Response& rs) {
+  if (rq.path.empty()) {
+    rs.success = false;
+    rs.message = "path: must not be empty";
+    return true;
+  }
+  try {
+    io::write_sample(rq.path, sim_->state(), meta_);
+  } catch (const std::exception& e) {
+    rs.success = false;
+    rs.message = std::string("path: ") + e.what();
+    return true;
+  }
+  rs.success = true;
+  rs.message = "saved tick " + std::to_string(tick_) + " (step " + std::to_string(sim_->steps()) + ") to " + rq.path;
+  if (sim_->unstable()) rs.message += " (WARNING: state after a numerical failure)";
+  return true;
+}
+
+bool DemNode::on_set_damping(virtual_triaxial::SetDamping::Request& rq, virtual_triaxial::SetDamping::Response& rs) {
+  dem::DampingModel model;
+  rs.success = false;
+  if (!dem::parse_damping_model(rq.model, model)) {
+    rs.message = "model: '" + rq.model + "' is not OD or ND";
+  } else if (!(std::isfinite(rq.ratio) && rq.ratio >= 0.0)) {
+    rs.message = "ratio: must be a finite number >= 0";
+  } else {
+    sim_->set_damping(dem::MassDamping(model, rq.ratio));
+    rs.success = true;
+    rs.message = std::string("damping ") + dem::to_string(model) + " xi " + std::to_string(rq.ratio);
+  }
+  return true;
+}
+
+bool DemNode::on_set_friction(virtual_triaxial::SetFriction::Request& rq, virtual_triaxial::SetFriction::Response& rs) {
+  if (!(std::isfinite(rq.mu) && rq.mu >= 0.0)) {
+    rs.success = false;
+    rs.message = "mu: must be a finite number >= 0";
+    return true;
+  }
+  sim_->set_friction(rq.mu);
+  rs.success = true;
+  rs.message = "friction " + std::to_string(rq.mu);
+  return true;
+}
+
+}  // namespace vt::ros

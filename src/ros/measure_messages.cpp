@@ -1,0 +1,92 @@
+// dem::Measures -> state messages. See measure_messages.h.
+#include "virtual_triaxial/ros/measure_messages.h"
+
+namespace vt::ros {
+
+std_msgs::Header make_header(const TickStamp& s) {
+  std_msgs::Header h;
+  h.stamp.fromSec(s.time);
+  h.frame_id = "cell";
+  return h;
+}
+
+virtual_triaxial::Stress to_stress_msg(const dem::Measures& m, const TickStamp& s, double control_period,
+                                       double young, const dem::Vec3& stiffness) {
+  virtual_triaxial::Stress msg;
+  msg.header = make_header(s);
+  msg.tick = s.tick;
+  msg.time = s.time;
+  msg.control_period = control_period;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) msg.stress[static_cast<std::size_t>(3 * r + c)] = m.stress(r, c);
+  for (int i = 0; i < 3; ++i) {
+    msg.principal[static_cast<std::size_t>(i)] = m.principal_stress[i];
+    msg.stiffness[static_cast<std::size_t>(i)] = stiffness[i];
+  }
+  msg.p = m.p;
+  msg.q = m.q;
+  msg.phi = m.phi;
+  msg.sigma_bar_p = m.p / young;
+  return msg;
+}
+
+virtual_triaxial::Strain to_strain_msg(const dem::Measures& m, const TickStamp& s, const dem::Vec3& rates,
+                                       double t0) {
+  virtual_triaxial::Strain msg;
+  msg.header = make_header(s);
+  msg.tick = s.tick;
+  msg.time = s.time;
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    msg.strain[k] = m.strain[i];
+    msg.strain_rate[k] = rates[i];
+    msg.strain_rate_dimensionless[k] = rates[i] * t0;
+  }
+  msg.volumetric = m.volumetric_strain;
+  return msg;
+}
+
+virtual_triaxial::MomentIndex to_moment_index_msg(const dem::Measures& m, const TickStamp& s) {
+  virtual_triaxial::MomentIndex msg;
+  msg.header = make_header(s);
+  msg.tick = s.tick;
+  msg.time = s.time;
+  msg.moment_index = m.moment_index;
+  msg.ufr = m.ufr;
+  msg.iuf = m.iuf;
+  msg.inertia_index = m.inertia_index;
+  return msg;
+}
+
+virtual_triaxial::KineticEnergy to_kinetic_energy_msg(const dem::Measures& m, const TickStamp& s) {
+  virtual_triaxial::KineticEnergy msg;
+  msg.header = make_header(s);
+  msg.tick = s.tick;
+  msg.time = s.time;
+  const dem::EnergyBudget& e = m.energy;
+  msg.translational = e.kinetic_translational;
+  msg.rotational = e.kinetic_rotational;
+  msg.boundary_work = e.boundary_work;
+  msg.elastic = e.elastic;
+  msg.damping = e.damping;
+  msg.friction = e.friction;
+  msg.balance_error = e.balance_error();
+  msg.relative_balance_error = e.relative_balance_error();
+  return msg;
+}
+
+virtual_triaxial::Fabric to_fabric_msg(const dem::Measures& m, const TickStamp& s) {
+  virtual_triaxial::Fabric msg;
+  msg.header = make_header(s);
+  msg.tick = s.tick;
+  msg.time = s.time;
+  msg.void_ratio = m.void_ratio;
+  msg.coordination_number = m.coordination_number;
+  msg.raw_coordination_number = m.raw_coordination_number;
+  msg.idle_mass_fraction = m.idle_mass_fraction;
+  msg.contacts = static_cast<std::uint64_t>(m.contacts);
+  msg.sliding_contacts = static_cast<std::uint64_t>(m.sliding_contacts);
+  return msg;
+}
+
+}  // namespace vt::ros

@@ -1,0 +1,258 @@
+// ServoControllerNode: servo strategy behind ROS. See servo_controller_node.h.
+#include "virtual_triaxial/ros/servo_controller_node.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "virtual_triaxial/CellCommand.h"
+#include "virtual_triaxial/ClaimAxes.h"
+#include "virtual_triaxial/GetInfo.h"
+#include "virtual_triaxial/ReleaseAxes.h"
+#include "virtual_triaxial/ServoState.h"
+#include "virtual_triaxial/ros/parameters.h"
+
+namespace vt::ros {
+
+namespace {
+
+std::string axes_text(const std::vector<int>& axes) {
+  std::ostringstream s;
+  s << "[";
+  for (std::size_t i = 0; i < axes.size(); ++i) s << (i ? ", " : "") << axes[i];
+  s << "]";
+  return s.str();
+}
+
+bool valid_stress_target(double v) { return std::isfinite(v) && v >= 0.0; }
+
+}  // namespace
+
+ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh)
+    : nh_(nh), pnh_(pnh) {
+  read_parameters();
+  stress_sub_ = nh_.subscribe("stress", 100, &ServoControllerNode::on_stress, this,
+                              ::ros::TransportHints().tcpNoDelay());
+  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 100);
+  state_pub_ = nh_.advertise<virtual_triaxial::ServoState>("servo_state", 100);
+  info_client_ = nh_.serviceClient<virtual_triaxial::GetInfo>("get_info");
+  claim_client_ = nh_.serviceClient<virtual_triaxial::ClaimAxes>("claim_axes");
+  release_client_ = nh_.serviceClient<virtual_triaxial::ReleaseAxes>("release_axes");
+  // The servo's own services are private (~), so several controllers can share a rig.
+  services_.push_back(
+      pnh_.advertiseService("set_confining_pressure", &ServoControllerNode::on_set_confining_pressure, this));
+  services_.push_back(pnh_.advertiseService("set_axis_targets", &ServoControllerNode::on_set_axis_targets, this));
+  services_.push_back(pnh_.advertiseService("enable", &ServoControllerNode::on_enable, this));
+  services_.push_back(pnh_.advertiseService("disable", &ServoControllerNode::on_disable, this));
+  retry_timer_ = nh_.createWallTimer(::ros::WallDuration(0.2), &ServoControllerNode::on_retry, this);
+}
+
+void ServoControllerNode::read_parameters() {
+  pnh_.param<std::string>("strategy", strategy_name_, "proportional");
+  pnh_.param<std::string>("owner", owner_, ::ros::this_node::getName());
+  if (owner_.empty()) throw std::invalid_argument("~owner: must not be empty");
+  params_.gain = optional_double(pnh_, "gain").value_or(0.5);
+  max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(1e-4);
+  if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
+    throw std::invalid_argument("~max_dimensionless_rate: must be a finite number > 0");
+  // Validates ~strategy and ~gain now; the real cap needs T0 from dem_node.
+  control::ServoParameters probe = params_;
+  probe.max_strain_rate = 1.0;
+  try {
+    control::make_servo(strategy_name_, probe);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("~strategy / ~gain: ") + e.what());
+  }
+
+  const auto target = optional_double(pnh_, "target");
+  if (!target) throw std::invalid_argument("~target: required (stress target in Pa)");
+  if (!valid_stress_target(*target)) throw std::invalid_argument("~target: must be a finite number >= 0 Pa");
+  ramp_.reset(dem::Vec3{*target, *target, *target});
+
+  axes_ = {0, 1};
+  if (pnh_.hasParam("axes") && !pnh_.getParam("axes", axes_))
+    throw std::invalid_argument("~axes: must be a list of integers (0 = x, 1 = y, 2 = z)");
+  if (axes_.empty()) throw std::invalid_argument("~axes: no axis given");
+  for (int a : axes_) {
+    if (a < 0 || a > 2) throw std::invalid_argument("~axes: " + std::to_string(a) + " is not 0, 1 or 2");
+    if ((a == 0 && mask_.x) || (a == 1 && mask_.y) || (a == 2 && mask_.z))
+      throw std::invalid_argument("~axes: axis " + std::to_string(a) + " listed twice");
+    (a == 0 ? mask_.x : a == 1 ? mask_.y : mask_.z) = true;
+  }
+  pnh_.param("start_enabled", enabled_, true);
+}
+
+std::string ServoControllerNode::try_claim() {
+  if (stress_sub_.getNumPublishers() == 0 || command_pub_.getNumSubscribers() == 0)
+    return "waiting for dem_node's stress / cell_command connections";
+  virtual_triaxial::GetInfo info;
+  if (!info_client_.call(info)) return "get_info not available yet";
+  params_.max_strain_rate = max_dimensionless_rate_ / info.response.t0;
+  try {
+    strategy_ = control::make_servo(strategy_name_, params_);
+    strategy_->init(ramp_.value(info.response.time), mask_);
+    strategy_->start(info.response.time);
+  } catch (const std::exception& e) {
+    return std::string("servo: ") + e.what();
+  }
+  last_time_ = info.response.time;
+  virtual_triaxial::ClaimAxes claim;
+  claim.request.owner = owner_;
+  claim.request.axes.assign(axes_.begin(), axes_.end());
+  if (!claim_client_.call(claim)) return "claim_axes not available yet";
+  if (!claim.response.success) return "claim_axes refused: " + claim.response.message;
+  claim_tick_ = claim.response.tick;
+  claimed_ = true;
+  ROS_INFO("servo_controller_node: '%s' controls axes %s (%s, gain %g, |eps'| <= %g, T0 %.4g s)", owner_.c_str(),
+           axes_text(axes_).c_str(), strategy_name_.c_str(), params_.gain, max_dimensionless_rate_,
+           info.response.t0);
+  return "";
+}
+
+std::string ServoControllerNode::release() {
+  if (strategy_ && strategy_->running()) strategy_->stop();
+  if (!claimed_) return "";
+  virtual_triaxial::ReleaseAxes rel;
+  rel.request.owner = owner_;
+  rel.request.axes.assign(axes_.begin(), axes_.end());
+  if (!release_client_.call(rel)) return "release_axes not available";
+  claimed_ = false;  // refused means we do not own them any more either
+  if (!rel.response.success) return "release_axes refused: " + rel.response.message;
+  return "";
+}
+
+void ServoControllerNode::on_retry(const ::ros::WallTimerEvent&) {
+  if (!enabled_ || claimed_) return;
+  const std::string why = try_claim();
+  if (!why.empty() && why != last_wait_reason_) {
+    ROS_INFO("servo_controller_node: %s; retrying", why.c_str());
+    last_wait_reason_ = why;
+  }
+}
+
+void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& msg) {
+  last_time_ = msg->time;
+  // Ticks keep counting across load_sample; one going backwards means a new
+  // dem_node process, which knows nothing of our claim: claim again.
+  const std::uint64_t previous = last_tick_;
+  const bool restarted = has_tick_ && msg->tick <= previous;
+  last_tick_ = msg->tick;
+  has_tick_ = true;
+  if (restarted && claimed_) {
+    ROS_WARN("servo_controller_node: tick %llu after %llu: dem_node restarted, claiming the axes again",
+             static_cast<unsigned long long>(msg->tick), static_cast<unsigned long long>(previous));
+    claimed_ = false;
+    return;
+  }
+  if (!enabled_ || !claimed_ || !strategy_) return;
+  // States published before the claim (a backlog in our queue) need no answer.
+  if (msg->tick <= claim_tick_) return;
+  control::ServoInput in;
+  in.time = msg->time;
+  in.dt = msg->control_period;
+  in.stress = {msg->stress[0], msg->stress[4], msg->stress[8]};
+  in.stiffness = {msg->stiffness[0], msg->stiffness[1], msg->stiffness[2]};
+  control::ServoOutput out;
+  try {
+    strategy_->set_targets(ramp_.value(msg->time));
+    out = strategy_->update(in);
+  } catch (const std::exception& e) {
+    ROS_ERROR_THROTTLE(1.0, "servo_controller_node: tick %llu: no command: %s",
+                       static_cast<unsigned long long>(msg->tick), e.what());
+    return;
+  }
+  virtual_triaxial::CellCommand cmd;
+  cmd.header = msg->header;
+  cmd.tick = msg->tick;
+  cmd.owner = owner_;
+  for (int a : axes_) {
+    cmd.axes.push_back(static_cast<std::uint8_t>(a));
+    cmd.strain_rate.push_back(out.strain_rate[a]);
+  }
+  command_pub_.publish(cmd);
+
+  virtual_triaxial::ServoState st;
+  st.header = msg->header;
+  st.tick = msg->tick;
+  st.strategy = strategy_->name();
+  st.enabled = enabled_;
+  const dem::Vec3 targets = strategy_->targets();
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    st.controlled[k] = controls(i);
+    st.targets[k] = targets[i];
+    st.errors[k] = out.error[i];
+    st.saturated[k] = out.saturated[i];
+    st.strain_rate[k] = out.strain_rate[i];
+  }
+  st.gain = params_.gain;
+  st.max_strain_rate = params_.max_strain_rate;
+  state_pub_.publish(st);
+}
+
+bool ServoControllerNode::on_set_confining_pressure(virtual_triaxial::SetConfiningPressure::Request& rq,
+                                                    virtual_triaxial::SetConfiningPressure::Response& rs) {
+  rs.success = false;
+  if (!valid_stress_target(rq.target)) {
+    rs.message = "target: must be a finite number >= 0 Pa (compression positive)";
+  } else if (!(std::isfinite(rq.ramp_seconds) && rq.ramp_seconds >= 0.0)) {
+    rs.message = "ramp_seconds: must be a finite number >= 0 (simulation seconds)";
+  } else {
+    for (int a : axes_) ramp_.ramp(a, rq.target, last_time_, rq.ramp_seconds);
+    rs.success = true;
+    rs.message = "target " + std::to_string(rq.target) + " Pa on axes " + axes_text(axes_) + " over " +
+                 std::to_string(rq.ramp_seconds) + " s";
+  }
+  return true;
+}
+
+bool ServoControllerNode::on_set_axis_targets(virtual_triaxial::SetAxisTargets::Request& rq,
+                                              virtual_triaxial::SetAxisTargets::Response& rs) {
+  rs.success = false;
+  if (rq.axes.empty()) {
+    rs.message = "axes: no axis given";
+    return true;
+  }
+  for (std::uint8_t a : rq.axes) {
+    if (a > 2 || !controls(a)) {
+      rs.message = "axes: axis " + std::to_string(a) + " is not controlled by this servo (axes " +
+                   axes_text(axes_) + ")";
+      return true;
+    }
+    if (!valid_stress_target(rq.targets[a])) {
+      rs.message = "targets[" + std::to_string(a) + "]: must be a finite number >= 0 Pa";
+      return true;
+    }
+  }
+  if (!(std::isfinite(rq.ramp_seconds) && rq.ramp_seconds >= 0.0)) {
+    rs.message = "ramp_seconds: must be a finite number >= 0 (simulation seconds)";
+    return true;
+  }
+  for (std::uint8_t a : rq.axes) ramp_.ramp(a, rq.targets[a], last_time_, rq.ramp_seconds);
+  rs.success = true;
+  rs.message = "targets set";
+  return true;
+}
+
+bool ServoControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  enabled_ = true;
+  rs.success = true;
+  if (claimed_) {
+    rs.message = "already enabled; axes " + axes_text(axes_) + " claimed";
+    return true;
+  }
+  const std::string why = try_claim();
+  rs.message = why.empty() ? "enabled; axes " + axes_text(axes_) + " claimed"
+                           : "enabled; not claimed yet (" + why + "), retrying";
+  return true;
+}
+
+bool ServoControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  enabled_ = false;
+  const std::string why = release();
+  rs.success = why.empty();
+  rs.message = why.empty() ? "disabled; axes released" : "disabled; " + why;
+  return true;
+}
+
+}  // namespace vt::ros
