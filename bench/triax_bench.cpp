@@ -1,0 +1,451 @@
+// triax_bench -- cost per particle-step of the DEM core on a dense sample
+// sheared at constant volume (DESIGN §8: flat from 1e3 to 1e5 particles).
+//
+//   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
+//               [--skin-ratio X] [--cache DIR]
+//
+// Preparation (all hardware threads, progress on stderr), material rho 2650,
+// E 70 GPa, nu 0.3, mu 0.5, c_t 0.3, OD damping xi = 0.02:
+//   1. radii uniform in [0.8, 1.2] mm; dem::generate_cloud at void ratio 2.0;
+//      dem::spatial_sort (Morton bin order) unless --no-sort;
+//   2. compaction: isotropic compression in blocks of 50 steps, starting at
+//      eps' = 1e-3 per axis; after each block the rate is scaled by
+//      sqrt(3 MPa / p) (clamped to [0.5, 1.5], at most 1e-3; halved when an
+//      overlap exceeds 3 % of a radius) so that the dynamic stress of the
+//      collapsing packing stays near 3 MPa; until the mechanical coordination
+//      number (idle particles removed) reaches 4.2, i.e. the packing is jammed;
+//   3. unloading: a stiffness-normalised servo (Voigt bulk modulus of the
+//      contacts, gain 0.5, |eps'| <= 4e-6, p measured every 50 steps) brings
+//      the mean stress down to 100 kPa (within 10 % three times in a row);
+//   4. 200 steps of relaxation at constant volume.
+// Why not xi = 0.2 and a plain stress criterion: the damping acts on the
+// velocity relative to the affine field, so a loose cloud compressed at
+// eps' ~ 1e-3 carries a drag stress of order 4 xi eps' E (several MPa at
+// xi = 0.2) long before it jams, and a hertzian packing at 100 kPa (overlaps
+// ~ 6e-4 R) relaxes slowly; compacting at ~3 MPa and unloading slowly gets a
+// jammed sample in ~6000 steps whatever N. The sample is dense (e ~ 0.85,
+// coordination ~ 3) but not a carefully equilibrated one; for a study sample
+// use the protocol's sample preparation.
+// Timing (T threads, omp_set_num_threads): constant-volume triaxial
+// compression, axial (z) eps' = 1e-5, lateral -1/2 of it; 50 warm-up steps,
+// then S steps of Simulation::step(false) timed with steady_clock.
+// Default S = max(200, 3e7 / N). --skin-ratio X rebuilds the Simulation from
+// its state with SimulationSettings::skin_ratio = X before timing (physics
+// unchanged, so the fingerprint must not change; only pairs and rebuilds do).
+//
+// Output (stdout), "key: value" lines, us_per_particle_step last:
+//   rss_bytes_per_particle = VmRSS after timing / N. It is the whole process:
+//   the Simulation (particles, forces, integrator coefficients, neighbour
+//   list with its per-pair data and reverse index), the executable and shared
+//   libraries (~5-10 MB, which dominates at N = 1000), the OpenMP runtime and
+//   its thread stacks, and heap that glibc still holds after the preparation
+//   (malloc_trim(0) is called before timing to give most of it back).
+//   cpu_seconds = CPU time of the process over the timed steps (all threads;
+//   spinning OpenMP threads count), a cross-check when the machine is shared.
+//   peak_rss_mb = VmHWM, the high-water mark over the whole run (preparation,
+//   cloud generation and neighbour-list rebuilds included).
+//   state_fingerprint: FNV-1a hash of the final positions, velocities, spins
+//   and contact springs; equal fingerprints mean bit-identical states (it does
+//   not depend on the thread count; it does on --no-sort, --steps and --seed).
+#include <malloc.h>
+#include <omp.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
+
+using namespace vt::dem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr double kTargetPressure = 100e3;  // [Pa]
+constexpr double kDamping = 0.02;          // OD damping ratio, preparation and shear
+constexpr int kBlock = 50;                 // steps between measurements
+constexpr double kMaxRate = 1e-3;          // compaction: max eps' per axis
+constexpr double kCompactionStress = 3e6;  // compaction: dynamic stress aimed at [Pa]
+constexpr double kJammedCoordination = 4.2;
+constexpr double kServoGain = 0.5;
+constexpr double kServoMaxRate = 4e-6;     // unloading: max |eps'| per axis
+constexpr int kRelaxSteps = 200;
+constexpr double kShearRate = 1e-5;        // dimensionless axial rate during timing
+
+int usage(const char* msg) {
+  if (msg) std::cerr << "triax_bench: " << msg << "\n";
+  std::cerr << "usage: triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]\n"
+               "                   [--skin-ratio X] [--cache DIR]\n"
+               "  N >= 100 particles, T >= 1 OpenMP threads, S >= 1 timed steps\n"
+               "  (default S = max(200, 3e7/N)), K = random seed (default 1),\n"
+               "  --no-sort: keep the cloud generator's storage order,\n"
+               "  X > 0: Verlet skin / L0 during timing (default: SimulationSettings),\n"
+               "  DIR: keep/reuse the prepared sample there (skips the preparation)\n";
+  return 2;
+}
+
+bool parse_int(const char* s, long long lo, long long& out) {
+  if (!s || !*s) return false;
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(s, &end, 10);
+  if (errno != 0 || *end != '\0' || v < lo) return false;
+  out = v;
+  return true;
+}
+
+/// Value of a "Vm...:  123 kB" line of /proc/self/status, in bytes (0 if absent).
+double proc_status_bytes(const char* key) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const std::size_t klen = std::strlen(key);
+  while (std::getline(f, line))
+    if (line.compare(0, klen, key) == 0 && line.size() > klen && line[klen] == ':')
+      return std::atof(line.c_str() + klen + 1) * 1024.0;
+  return 0.0;
+}
+
+/// CPU time of the whole process (all threads) [s].
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ULL;
+  void add(const void* data, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < n; ++k) h = (h ^ b[k]) * 1099511628211ULL;
+  }
+};
+
+std::uint64_t fingerprint(const Simulation& sim) {
+  Fnv f;
+  const Particles& p = sim.particles();
+  f.add(p.id.data(), p.id.size() * sizeof(std::int64_t));
+  f.add(p.frac.data(), p.frac.size() * sizeof(Vec3));
+  f.add(p.velocity.data(), p.velocity.size() * sizeof(Vec3));
+  f.add(p.omega.data(), p.omega.size() * sizeof(Vec3));
+  for (const ContactHistory& c : sim.neighbor_list().histories(p)) {
+    f.add(&c.id_a, sizeof c.id_a);
+    f.add(&c.id_b, sizeof c.id_b);
+    f.add(&c.spring, sizeof c.spring);
+  }
+  const Mat3& h = sim.cell().h();
+  f.add(&h, sizeof h);
+  return f.h;
+}
+
+/// Voigt estimate of the bulk modulus from the contact stiffnesses:
+/// K = sum_c k_n |d_c|^2 / (9 V), k_n = E/(1-nu^2) sqrt(R* delta) (eq. 116) [Pa].
+double bulk_stiffness(const Simulation& sim) {
+  const Particles& p = sim.particles();
+  const NeighborList& list = sim.neighbor_list();
+  const PairData& pd = list.pairs();
+  const auto& off = list.offsets();
+  const Material& mat = sim.settings().material;
+  const double kc = mat.young / (1.0 - mat.poisson * mat.poisson);
+  double sum = 0.0;
+  for (std::size_t i = 0; i + 1 < off.size(); ++i)
+    for (std::int32_t e = off[i]; e < off[i + 1]; ++e) {
+      const double hov = pd.half_overlap[static_cast<std::size_t>(e)];
+      if (!(hov > 0.0)) continue;
+      const double ri = p.radius[i], rj = p.radius[static_cast<std::size_t>(pd.partner[e])];
+      const double delta = 2.0 * hov, d = ri + rj - delta;
+      sum += kc * std::sqrt(ri * rj / (ri + rj) * delta) * d * d;
+    }
+  return sum / (9.0 * sim.cell().volume());
+}
+
+/// Run `n` steps, the last one measured; returns false on instability.
+bool run_measured(Simulation& sim, int n) {
+  for (int k = 0; k + 1 < n; ++k)
+    if (!sim.step(false)) return false;
+  return sim.step(true);
+}
+
+[[noreturn]] void die(const Simulation& sim) {
+  std::cerr << "triax_bench: simulation became unstable: " << sim.failure() << "\n";
+  std::exit(1);
+}
+
+// ---- prepared-sample cache (--cache DIR) -------------------------------------
+// Raw dump of a SimulationState (all plain-old-data vectors), so repeated
+// timings of one N skip the preparation. The core is deterministic, so a
+// cached state equals a freshly prepared one bit for bit as long as the
+// preparation and the physics of the core are unchanged; bump kCacheVersion
+// when either changes.
+constexpr std::uint64_t kCacheVersion = 2;
+
+template <class T>
+void put(std::FILE* f, const T& v) {
+  static_assert(std::is_trivially_copyable<T>::value, "POD only");
+  std::fwrite(&v, sizeof v, 1, f);
+}
+template <class T>
+void put_vec(std::FILE* f, const std::vector<T>& v) {
+  put(f, static_cast<std::uint64_t>(v.size()));
+  if (!v.empty()) std::fwrite(v.data(), sizeof(T), v.size(), f);
+}
+template <class T>
+bool get(std::FILE* f, T& v) {
+  return std::fread(&v, sizeof v, 1, f) == 1;
+}
+template <class T>
+bool get_vec(std::FILE* f, std::vector<T>& v) {
+  std::uint64_t n = 0;
+  if (!get(f, n) || n > (1ULL << 32)) return false;
+  v.resize(n);
+  return n == 0 || std::fread(v.data(), sizeof(T), n, f) == n;
+}
+
+bool save_state(const std::string& path, const SimulationState& s, std::int64_t prep_steps,
+                double prep_seconds) {
+  const std::string tmp = path + ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return false;
+  put(f, kCacheVersion);
+  const Particles& p = s.particles;
+  put_vec(f, p.id); put_vec(f, p.shape); put_vec(f, p.radius); put_vec(f, p.semi_axes);
+  put_vec(f, p.mass); put_vec(f, p.inertia); put_vec(f, p.frac); put_vec(f, p.velocity);
+  put_vec(f, p.omega); put_vec(f, p.orientation); put_vec(f, p.material);
+  put(f, s.h); put(f, s.h_reference); put(f, s.velocity_gradient);
+  put_vec(f, s.contacts);
+  put(f, s.time); put(f, s.step); put(f, s.energy); put(f, s.settings); put(f, prep_steps);
+  put(f, prep_seconds);
+  const bool ok = std::fclose(f) == 0;
+  return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
+bool load_state(const std::string& path, SimulationState& s, std::int64_t& prep_steps,
+                double& prep_seconds) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  std::uint64_t version = 0;
+  Particles& p = s.particles;
+  const bool ok = get(f, version) && version == kCacheVersion && get_vec(f, p.id) && get_vec(f, p.shape) &&
+                  get_vec(f, p.radius) && get_vec(f, p.semi_axes) && get_vec(f, p.mass) &&
+                  get_vec(f, p.inertia) && get_vec(f, p.frac) && get_vec(f, p.velocity) &&
+                  get_vec(f, p.omega) && get_vec(f, p.orientation) && get_vec(f, p.material) &&
+                  get(f, s.h) && get(f, s.h_reference) && get(f, s.velocity_gradient) &&
+                  get_vec(f, s.contacts) && get(f, s.time) && get(f, s.step) && get(f, s.energy) &&
+                  get(f, s.settings) && get(f, prep_steps) && get(f, prep_seconds);
+  std::fclose(f);
+  return ok;
+}
+
+/// Measure every kBlock steps: run kBlock steps, the last one measured.
+Measures block(Simulation& sim) {
+  if (!run_measured(sim, kBlock)) die(sim);
+  return sim.measures();
+}
+
+void report(const char* phase, std::int64_t steps, const Measures& m, double rate, Clock::time_point t) {
+  std::fprintf(stderr, "[prep] %-10s step %6lld  e %.4f  p %10.4g Pa  Z %.3f  Z_mech %.3f  overlap %.4f  eps' %+.3g  (%.1f s)\n",
+               phase, static_cast<long long>(steps), m.void_ratio, m.p, m.raw_coordination_number,
+               m.coordination_number, m.max_overlap_ratio, rate, seconds_since(t));
+}
+
+/// Compaction, unloading and relaxation (see the header). Returns the steps.
+std::int64_t prepare(Simulation& sim, Clock::time_point t_start) {
+  const double t0 = sim.time_scale().t0, ct = sim.time_scale().ct;
+  std::int64_t steps = 0;
+  // Compaction.
+  double rate = kMaxRate;
+  for (int b = 0;; ++b) {
+    sim.set_strain_rates(Vec3{-1, -1, -1} * (rate / t0));
+    const Measures m = block(sim);
+    steps += kBlock;
+    if (b % 10 == 0 || m.coordination_number >= kJammedCoordination) report("compaction", steps, m, rate, t_start);
+    if (m.coordination_number >= kJammedCoordination) break;
+    double f = m.p > 0.0 ? std::sqrt(kCompactionStress / m.p) : 1.5;
+    if (m.max_overlap_ratio > 0.03) f = std::min(f, 0.5);
+    rate = std::min(kMaxRate, rate * std::min(1.5, std::max(0.5, f)));
+    if (steps > 200000) {
+      std::cerr << "triax_bench: the compaction did not jam the sample\n";
+      std::exit(1);
+    }
+  }
+  // Unloading to the target pressure.
+  Measures m = sim.measures();
+  for (int b = 0, ok = 0; ok < 3; ++b) {
+    const double k = bulk_stiffness(sim);
+    const double strain = kServoGain * (kTargetPressure - m.p) / (3.0 * k);  // per axis, one block
+    rate = k > 0.0 ? std::min(kServoMaxRate, std::max(-kServoMaxRate, strain / (kBlock * ct))) : kServoMaxRate;
+    sim.set_strain_rates(Vec3{-1, -1, -1} * (rate / t0));
+    m = block(sim);
+    steps += kBlock;
+    ok = std::fabs(m.p / kTargetPressure - 1.0) < 0.1 ? ok + 1 : 0;
+    if (b % 10 == 0 || ok == 3) report("unloading", steps, m, rate, t_start);
+    if (steps > 400000) {
+      std::cerr << "triax_bench: the unloading did not reach the target pressure\n";
+      std::exit(1);
+    }
+  }
+  // Relaxation at constant volume.
+  sim.set_strain_rates(Vec3{});
+  for (int k = 0; k < kRelaxSteps; k += kBlock) m = block(sim);
+  steps += kRelaxSteps;
+  report("relaxed", steps, m, 0.0, t_start);
+  return steps;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  long long n = -1, threads = -1, steps = -1, seed = 1;
+  bool sort = true;
+  double skin_ratio = -1.0;
+  std::string cache_dir;
+  for (int a = 1; a < argc; ++a) {
+    const std::string k = argv[a];
+    const char* v = a + 1 < argc ? argv[a + 1] : nullptr;
+    if (k == "--particles") {
+      if (!parse_int(v, 100, n)) return usage("--particles needs an integer >= 100");
+      ++a;
+    } else if (k == "--threads") {
+      if (!parse_int(v, 1, threads)) return usage("--threads needs an integer >= 1");
+      ++a;
+    } else if (k == "--steps") {
+      if (!parse_int(v, 1, steps)) return usage("--steps needs an integer >= 1");
+      ++a;
+    } else if (k == "--seed") {
+      if (!parse_int(v, 0, seed)) return usage("--seed needs an integer >= 0");
+      ++a;
+    } else if (k == "--skin-ratio") {
+      char* end = nullptr;
+      skin_ratio = v ? std::strtod(v, &end) : -1.0;
+      if (!v || *end != '\0' || !(skin_ratio > 0.0 && skin_ratio < 10.0))
+        return usage("--skin-ratio needs a number in (0, 10)");
+      ++a;
+    } else if (k == "--cache") {
+      if (!v || !*v) return usage("--cache needs a directory");
+      cache_dir = v;
+      ++a;
+    } else if (k == "--no-sort") {
+      sort = false;
+    } else if (k == "-h" || k == "--help") {
+      return usage(nullptr);
+    } else {
+      return usage(("unknown argument '" + k + "'").c_str());
+    }
+  }
+  if (n < 0 || threads < 0) return usage("--particles and --threads are required");
+  if (steps < 0) steps = std::max<long long>(200, static_cast<long long>(3e7 / static_cast<double>(n)));
+
+  // ---- preparation, all hardware threads -------------------------------------
+  omp_set_num_threads(omp_get_num_procs());
+  const auto t_prep = Clock::now();
+  std::unique_ptr<Simulation> sim;
+  std::int64_t prep_steps = 0;
+  double prep_seconds = 0.0;
+  bool cached = false;
+  const std::string cache_file =
+      cache_dir.empty() ? std::string()
+                        : cache_dir + "/triax_bench_n" + std::to_string(n) + "_seed" + std::to_string(seed) +
+                              (sort ? "_sorted" : "_unsorted") + ".state";
+  if (!cache_file.empty()) {
+    SimulationState st;
+    if (load_state(cache_file, st, prep_steps, prep_seconds)) {
+      sim = std::make_unique<Simulation>(st);
+      cached = true;
+      std::cerr << "[prep] loaded " << cache_file << "\n";
+    }
+  }
+  if (!sim) {
+    Material mat;
+    mat.density = 2650.0;
+    mat.young = 70e9;
+    mat.poisson = 0.3;
+    mat.friction = 0.5;
+    CloudRequest req;
+    req.radii = uniform_radii(n, 0.8e-3, 1.2e-3, static_cast<std::uint64_t>(seed));
+    req.density = mat.density;
+    req.void_ratio = 2.0;
+    req.seed = static_cast<std::uint64_t>(seed);
+    Cloud cloud = generate_cloud(req);
+    std::cerr << "[prep] cloud of " << n << " spheres in " << seconds_since(t_prep) << " s ("
+              << cloud.box_growths << " box growths)\n";
+    if (sort) spatial_sort(cloud.particles, cloud.cell);
+    SimulationSettings settings;
+    settings.material = mat;
+    settings.damping = MassDamping(DampingModel::OD, kDamping);
+    settings.time_step_ratio = 0.3;
+    sim = std::make_unique<Simulation>(std::move(cloud.particles), cloud.cell, settings);
+    prep_steps = prepare(*sim, t_prep);
+    prep_seconds = seconds_since(t_prep);
+    if (!cache_file.empty()) {
+      if (save_state(cache_file, sim->state(), prep_steps, prep_seconds))
+        std::cerr << "[prep] saved " << cache_file << "\n";
+      else
+        std::cerr << "[prep] warning: could not write " << cache_file << "\n";
+    }
+  }
+  std::cerr << "[prep] done in " << seconds_since(t_prep) << " s\n";
+  malloc_trim(0);
+
+  // ---- timing, T threads -----------------------------------------------------
+  omp_set_num_threads(static_cast<int>(threads));
+  if (skin_ratio > 0.0) {
+    SimulationState st = sim->state();
+    st.settings.skin_ratio = skin_ratio;
+    sim = std::make_unique<Simulation>(st);
+  }
+  const double shear = kShearRate / sim->time_scale().t0;
+  sim->set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
+  for (int k = 0; k < 50; ++k)
+    if (!sim->step(false)) die(*sim);
+  const std::int64_t rebuilds0 = sim->neighbor_list().rebuild_count();
+  const double cpu0 = process_cpu_seconds();
+  const auto t_run = Clock::now();
+  for (long long k = 0; k < steps; ++k)
+    if (!sim->step(false)) die(*sim);
+  const double wall = seconds_since(t_run);
+  const double cpu = process_cpu_seconds() - cpu0;
+  const std::int64_t rebuilds = sim->neighbor_list().rebuild_count() - rebuilds0;
+  const double rss = proc_status_bytes("VmRSS");
+  const double hwm = proc_status_bytes("VmHWM");
+  if (!sim->step(true)) die(*sim);  // not timed: measures for the report
+  const Measures m = sim->measures();
+
+  const double np = static_cast<double>(n);
+  std::printf("particles: %lld\n", n);
+  std::printf("threads: %lld\n", threads);
+  std::printf("steps: %lld\n", steps);
+  std::printf("spatial_sort: %s\n", sort ? "yes" : "no");
+  std::printf("preparation_seconds: %.2f%s\n", prep_seconds, cached ? " (when cached)" : "");
+  std::printf("preparation_steps: %lld\n", static_cast<long long>(prep_steps));
+  std::printf("void_ratio: %.4f\n", m.void_ratio);
+  std::printf("contacts_per_particle: %.3f\n", static_cast<double>(m.contacts) / np);
+  std::printf("neighbour_pairs_per_particle: %.3f\n",
+              static_cast<double>(sim->neighbor_list().pairs().size()) / np);
+  std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
+  std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));
+  std::printf("mean_stress_pa: %.1f\n", m.p);
+  std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
+  std::printf("wall_seconds: %.3f\n", wall);
+  std::printf("cpu_seconds: %.3f\n", cpu);
+  std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
+  std::printf("rss_bytes_per_particle: %.0f\n", rss / np);
+  std::printf("us_per_particle_step: %.4f\n", wall * 1e6 / (np * static_cast<double>(steps)));
+  return 0;
+}

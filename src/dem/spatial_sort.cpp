@@ -1,0 +1,80 @@
+#include "virtual_triaxial/dem/spatial_sort.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace vt::dem {
+
+namespace {
+
+/// Spread the low 21 bits of v so that there are two zero bits between each.
+std::uint64_t spread3(std::uint64_t v) {
+  v &= 0x1fffffULL;
+  v = (v | (v << 32)) & 0x1f00000000ffffULL;
+  v = (v | (v << 16)) & 0x1f0000ff0000ffULL;
+  v = (v | (v << 8)) & 0x100f00f00f00f00fULL;
+  v = (v | (v << 4)) & 0x10c30c30c30c30c3ULL;
+  v = (v | (v << 2)) & 0x1249249249249249ULL;
+  return v;
+}
+
+template <class T>
+void permute_vector(std::vector<T>& v, const std::vector<std::int32_t>& order) {
+  if (v.size() != order.size()) throw std::invalid_argument("permute: particle arrays differ in length");
+  std::vector<T> out;
+  out.reserve(v.size());
+  for (std::int32_t k : order) out.push_back(v[static_cast<std::size_t>(k)]);
+  v.swap(out);
+}
+
+}  // namespace
+
+std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell) {
+  const std::size_t n = p.size();
+  // Bins about one largest diameter wide (at most 2^21 per axis).
+  const double width = 2.0 * p.max_bounding_radius();
+  const Vec3 h = cell.heights();
+  int nb[3];
+  for (int a = 0; a < 3; ++a) {
+    const double k = width > 0.0 ? std::floor(h[a] / width) : 1.0;
+    nb[a] = static_cast<int>(std::min(std::max(k, 1.0), 2097152.0));
+  }
+  std::vector<std::pair<std::uint64_t, std::int32_t>> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 s = PeriodicCell::wrap(p.frac[i]);
+    std::uint64_t b[3];
+    for (int a = 0; a < 3; ++a)
+      b[a] = static_cast<std::uint64_t>(std::min(nb[a] - 1, std::max(0, static_cast<int>(s[a] * nb[a]))));
+    key[i] = {spread3(b[0]) | (spread3(b[1]) << 1) | (spread3(b[2]) << 2), static_cast<std::int32_t>(i)};
+  }
+  std::sort(key.begin(), key.end());  // ties broken by old index: stable
+  std::vector<std::int32_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = key[k].second;
+  return order;
+}
+
+void permute(Particles& p, const std::vector<std::int32_t>& order) {
+  std::vector<char> seen(order.size(), 0);
+  for (std::int32_t k : order) {
+    if (k < 0 || static_cast<std::size_t>(k) >= order.size() || seen[static_cast<std::size_t>(k)])
+      throw std::invalid_argument("permute: order is not a permutation of the particle indices");
+    seen[static_cast<std::size_t>(k)] = 1;
+  }
+  permute_vector(p.id, order);
+  permute_vector(p.shape, order);
+  permute_vector(p.radius, order);
+  permute_vector(p.semi_axes, order);
+  permute_vector(p.mass, order);
+  permute_vector(p.inertia, order);
+  permute_vector(p.frac, order);
+  permute_vector(p.velocity, order);
+  permute_vector(p.omega, order);
+  permute_vector(p.orientation, order);
+  permute_vector(p.material, order);
+}
+
+void spatial_sort(Particles& p, const PeriodicCell& cell) { permute(p, spatial_order(p, cell)); }
+
+}  // namespace vt::dem
