@@ -1,5 +1,7 @@
 #include "virtual_triaxial/dem/contact_forces.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -19,6 +21,148 @@ void ContactSums::add(const ContactSums& o) {
   sum_force2 += o.sum_force2;
 }
 
+void ContactForces::Scratch::reserve(std::size_t n) {
+  if (n <= entry.size()) return;
+  const std::size_t capacity = n + n / 2;  // grown rarely, so zero-filling is no cost
+  entry.resize(capacity);
+  separated.resize(capacity);
+  branch.resize(capacity);
+  dist2.resize(capacity);
+}
+
+namespace {
+
+// Software prefetch distances (measured on the 1e5-particle bench, where the
+// particle data of a partner and the pair state of a reverse entry are
+// usually not in cache; no effect when everything fits in cache):
+constexpr std::int32_t kPrefetchEntries = 24;   // pass 1: partner data, entries ahead
+constexpr std::int32_t kPrefetchContacts = 6;   // pass 2: pair state and spring, contacts ahead
+constexpr std::int32_t kPrefetchParticles = 6;  // gather: pair states, particles ahead
+
+/// Everything the pair loop reads, as plain pointers and local copies (a
+/// store through a double* could otherwise alias the cell matrix or the law's
+/// coefficients and force a reload on every pair).
+struct PairInputs {
+  const Vec3* frac;
+  const Vec3* vel;
+  const Vec3* omg;
+  const double* rad;
+  const std::int32_t* off;
+  const std::int32_t* owner;
+  const std::int32_t* partner;
+  Vec3* spring;
+  PairState* state;
+  std::uint8_t* active;
+  Mat3 h, lgrad;
+  HertzMindlin law;
+  double dt;
+};
+
+/// Pairs owned by particles [i_begin, i_end), i.e. list entries
+/// [off[i_begin], off[i_end]) in list order. Pass 1 tests every entry for
+/// contact without a data-dependent branch (the test is a coin flip for the
+/// branch predictor) and without a per-particle inner loop (whose exits
+/// mispredict too); pass 2 evaluates the contacts found, still in list
+/// order, so every sum sees the same terms in the same order as the plain
+/// double loop over particles and their entries. Entries not in contact hold
+/// zero force and moment (so the gather may add every entry); one that was in
+/// contact at the last evaluation also loses its spring. Measure = false
+/// skips what only measured steps use (elastic energy, force norms).
+template <bool Measure>
+ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
+                           std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch, double* c_dist2) {
+  const Mat3 h = in.h, lgrad = in.lgrad;
+  const HertzMindlin law = in.law;
+  const double dt = in.dt;
+  const std::int32_t e_begin = in.off[i_begin], e_end = in.off[i_end];
+
+  // Pass 1: contact test for every listed pair.
+  std::int32_t nc = 0, ns = 0;
+  for (std::int32_t e = e_begin; e < e_end; ++e) {
+    if (e + kPrefetchEntries < e_end) {
+      const std::int32_t jp = in.partner[e + kPrefetchEntries];
+      __builtin_prefetch(in.frac + jp);
+      __builtin_prefetch(in.rad + jp);
+      __builtin_prefetch(in.vel + jp);
+      __builtin_prefetch(in.omg + jp);
+    }
+    const std::int32_t i = in.owner[e];
+    const std::int32_t j = in.partner[e];
+    Vec3 ds = in.frac[j] - in.frac[i];
+    ds.x -= std::nearbyint(ds.x);
+    ds.y -= std::nearbyint(ds.y);
+    ds.z -= std::nearbyint(ds.z);
+    const Vec3 d = h * ds;
+    const double dist2 = norm2(d);
+    const double rsum = in.rad[i] + in.rad[j];
+    const bool touching = dist2 < rsum * rsum;
+    c_entry[nc] = e;
+    c_branch[nc] = d;
+    c_dist2[nc] = dist2;
+    nc += touching ? 1 : 0;
+    // In contact at the last evaluation but not now: cleared below.
+    s_entry[ns] = e;
+    ns += static_cast<std::int32_t>(in.active[e]) & static_cast<std::int32_t>(!touching);
+    in.active[e] = 0;  // contacts set it again in pass 2
+  }
+  for (std::int32_t k = 0; k < ns; ++k) {
+    const std::int32_t e = s_entry[k];
+    in.state[e] = PairState{};
+    in.spring[e] = Vec3{};
+  }
+
+  // Pass 2: the contacts, in list order.
+  ContactSums acc;
+  double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
+  for (std::int32_t c = 0; c < nc; ++c) {
+    if (c + kPrefetchContacts < nc) {
+      const std::int32_t ep = c_entry[c + kPrefetchContacts];
+      __builtin_prefetch(in.state + ep, 1);
+      __builtin_prefetch(in.spring + ep, 1);
+    }
+    const std::int32_t e = c_entry[c];
+    const std::int32_t i = in.owner[e];
+    const std::int32_t j = in.partner[e];
+    const double ri = in.rad[i], rj = in.rad[j];
+    const Vec3 d = c_branch[c];
+    const double rsum = ri + rj;
+    const double dist = std::sqrt(c_dist2[c]);
+    const double delta = rsum - dist;
+    const Vec3 nrm = (1.0 / dist) * d;
+    const double hov = 0.5 * delta;
+    const double li = ri - hov, lj = rj - hov;
+    const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d - cross(li * in.omg[i] + lj * in.omg[j], nrm);
+    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
+    const double r_eff = ri * rj / rsum;
+    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
+    const Vec3& f = r.force_on_j;
+    PairState& st = in.state[e];
+    st.force = f;
+    st.moment_axis = -cross(nrm, f);  // n x F_on_i
+    st.half_overlap = hov;
+    in.active[e] = hov != 0.0 ? 1 : 0;
+    vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
+    vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
+    vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
+    if (Measure) acc.elastic_energy += r.elastic_energy;
+    acc.friction_dissipation += r.friction_dissipation;
+    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(ri, rj));
+    acc.sliding += r.sliding ? 1 : 0;
+    if (Measure) {
+      const double f2 = norm2(f);
+      acc.sum_force2 += f2;
+      acc.sum_force += std::sqrt(f2);
+    }
+  }
+  acc.contacts = nc;
+  acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
+  acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
+  acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
+  return acc;
+}
+
+}  // namespace
+
 ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
                                    const HertzMindlin& law, double dt, bool measure,
                                    std::vector<Vec3>& force, std::vector<Vec3>& torque) {
@@ -26,100 +170,69 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const std::int32_t nchunks = chunk_count(n);
   chunk_sums_.assign(static_cast<std::size_t>(nchunks), ContactSums{});
   PairData& pd = list.pairs();
-  const std::vector<std::int32_t>& off = list.offsets();
-  const Mat3 lgrad = cell.velocity_gradient();
-  const Mat3& h = cell.h();
-  const Vec3* frac = p.frac.data();
-  const Vec3* vel = p.velocity.data();
-  const Vec3* omg = p.omega.data();
-  const double* rad = p.radius.data();
+  const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
+                      p.radius.data(),   list.offsets().data(), list.owners().data(),
+                      pd.partner.data(), pd.spring.data(),      pd.state.data(),
+                      pd.active.data(),  cell.h(),              cell.velocity_gradient(),
+                      law,               dt};
+  ContactSums* sums = chunk_sums_.data();
+  if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
+    scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
+  Scratch* scratch = scratch_.data();
 
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::int32_t c = 0; c < nchunks; ++c) {
-    ContactSums acc;
-    double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
-    const std::int32_t i_end = std::min<std::int32_t>(static_cast<std::int32_t>(n), (c + 1) * kChunkSize);
-    for (std::int32_t i = c * kChunkSize; i < i_end; ++i) {
-      const Vec3 si = frac[i];
-      const Vec3 vi = vel[i];
-      const Vec3 wi = omg[i];
-      const double ri = rad[i];
-      for (std::int32_t e = off[static_cast<std::size_t>(i)]; e < off[static_cast<std::size_t>(i) + 1]; ++e) {
-        const std::int32_t j = pd.partner[e];
-        const double rj = rad[j];
-        Vec3 ds = frac[j] - si;
-        ds.x -= std::nearbyint(ds.x);
-        ds.y -= std::nearbyint(ds.y);
-        ds.z -= std::nearbyint(ds.z);
-        const Vec3 d = h * ds;
-        const double dist2 = norm2(d);
-        const double rsum = ri + rj;
-        if (dist2 >= rsum * rsum) {
-          if (pd.half_overlap[e] != 0.0) {
-            pd.half_overlap[e] = 0.0;
-            pd.spring[e] = Vec3{};
-          }
-          continue;
-        }
-        const double dist = std::sqrt(dist2);
-        const double delta = rsum - dist;
-        const Vec3 nrm = (1.0 / dist) * d;
-        const double hov = 0.5 * delta;
-        const double li = ri - hov, lj = rj - hov;
-        const Vec3 vc = vel[j] - vi + lgrad * d - cross(li * wi + lj * omg[j], nrm);
-        const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
-        const double r_eff = ri * rj / rsum;
-        const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, pd.spring[e]);
-        pd.force[e] = r.force_on_j;
-        pd.moment_axis[e] = -cross(nrm, r.force_on_j);  // n x F_on_i
-        pd.half_overlap[e] = hov;
-        const Vec3& f = r.force_on_j;
-        vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
-        vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
-        vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
-        acc.elastic_energy += r.elastic_energy;
-        acc.friction_dissipation += r.friction_dissipation;
-        acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(ri, rj));
-        ++acc.contacts;
-        acc.sliding += r.sliding ? 1 : 0;
-        if (measure) {
-          const double f2 = norm2(f);
-          acc.sum_force2 += f2;
-          acc.sum_force += std::sqrt(f2);
-        }
-      }
-    }
-    acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
-    acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
-    acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
-    chunk_sums_[static_cast<std::size_t>(c)] = acc;
-  }
-
-  // Gather: reverse entries (partners with smaller id) then forward entries
-  // (larger id), both ascending, i.e. ascending partner id overall.
   force.resize(n);
   torque.resize(n);
-  const std::vector<std::int32_t>& roff = list.reverse_offsets();
-  const std::vector<std::int32_t>& rent = list.reverse_entries();
-#pragma omp parallel for schedule(static, kChunkSize)
-  for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i) {
-    Vec3 f{}, t{};
-    const double ri = rad[i];
-    for (std::int32_t k = roff[static_cast<std::size_t>(i)]; k < roff[static_cast<std::size_t>(i) + 1]; ++k) {
-      const std::int32_t e = rent[static_cast<std::size_t>(k)];
-      const double hov = pd.half_overlap[e];
-      if (hov == 0.0) continue;
-      f += pd.force[e];
-      t += (ri - hov) * pd.moment_axis[e];
+  const std::int32_t* goff = list.gather_offsets().data();
+  const std::int32_t* gcode = list.gather_codes().data();
+  const PairState* ps = pd.state.data();
+  const double* rad = p.radius.data();
+  Vec3* fout = force.data();
+  Vec3* tout = torque.data();
+  const std::int32_t ni = static_cast<std::int32_t>(n);
+
+  // One parallel region: pair evaluation, barrier, gather.
+#pragma omp parallel
+  {
+    Scratch& mine = scratch[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1)
+    for (std::int32_t c = 0; c < nchunks; ++c) {
+      const std::int32_t i_begin = c * kChunkSize;
+      const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
+      mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
+      sums[c] = measure ? evaluate_pairs<true>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
+                                               mine.branch.data(), mine.dist2.data())
+                        : evaluate_pairs<false>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
+                                                mine.branch.data(), mine.dist2.data());
     }
-    for (std::int32_t e = off[static_cast<std::size_t>(i)]; e < off[static_cast<std::size_t>(i) + 1]; ++e) {
-      const double hov = pd.half_overlap[e];
-      if (hov == 0.0) continue;
-      f -= pd.force[e];
-      t += (ri - hov) * pd.moment_axis[e];
+    // (implicit barrier: every pair state is final)
+
+    // Gather, per particle, over its gather slots: entries where it is the
+    // partner (force added) then its own entries (force subtracted), i.e.
+    // ascending partner id. No contact test: entries not in contact hold
+    // zero force and moment (see evaluate_pairs), and f + 0, t + l * 0 leave
+    // f and t unchanged bit for bit (a sum that starts at +0 and only adds or
+    // subtracts is never -0), so the loop has no unpredictable branch.
+#pragma omp for schedule(static, kChunkSize)
+    for (std::int32_t i = 0; i < ni; ++i) {
+      const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+      for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+      Vec3 f{}, t{};
+      const double ri = rad[i];
+      std::int32_t g = goff[i];
+      const std::int32_t g_end = goff[i + 1];
+      for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
+        const PairState& s = ps[gcode[g] >> 2];
+        f += s.force;
+        t += (ri - s.half_overlap) * s.moment_axis;
+      }
+      for (; g < g_end; ++g) {  // own entries, partners of higher id
+        const PairState& s = ps[gcode[g] >> 2];
+        f -= s.force;
+        t += (ri - s.half_overlap) * s.moment_axis;
+      }
+      fout[i] = f;
+      tout[i] = t;
     }
-    force[static_cast<std::size_t>(i)] = f;
-    torque[static_cast<std::size_t>(i)] = t;
   }
 
   ContactSums total;

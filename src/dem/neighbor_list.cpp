@@ -17,9 +17,8 @@ int wrap_bin(int b, int n) { return b < 0 ? b + n : (b >= n ? b - n : b); }
 void PairData::resize(std::size_t n) {
   partner.resize(n);
   spring.resize(n);
-  force.resize(n);
-  moment_axis.resize(n);
-  half_overlap.resize(n);
+  state.resize(n);
+  active.resize(n, 0);
 }
 
 void NeighborList::build_bins(const Particles& p, const PeriodicCell& cell, double cutoff) {
@@ -133,9 +132,8 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
           while (o < o_end && p.id[pairs_.partner[o]] < idj) ++o;
           if (o < o_end && pairs_.partner[o] == j) {
             next.spring[e] = pairs_.spring[o];
-            next.force[e] = pairs_.force[o];
-            next.moment_axis[e] = pairs_.moment_axis[o];
-            next.half_overlap[e] = pairs_.half_overlap[o];
+            next.state[e] = pairs_.state[o];
+            next.active[e] = pairs_.active[o];
           }
         }
         k += static_cast<std::size_t>(cnt) + 1;
@@ -153,24 +151,55 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
 
 void NeighborList::build_reverse(const Particles& p) {
   const std::size_t n = p.size();
-  rev_offsets_.assign(n + 1, 0);
-  for (std::int32_t j : pairs_.partner) ++rev_offsets_[static_cast<std::size_t>(j) + 1];
-  for (std::size_t i = 0; i < n; ++i) rev_offsets_[i + 1] += rev_offsets_[i];
-  rev_entries_.resize(pairs_.size());
-  std::vector<std::int32_t> fill(rev_offsets_.begin(), rev_offsets_.end() - 1);
-  std::vector<std::int32_t> owner(pairs_.size());
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e) {
-      owner[static_cast<std::size_t>(e)] = static_cast<std::int32_t>(i);
-      rev_entries_[static_cast<std::size_t>(fill[static_cast<std::size_t>(pairs_.partner[e])]++)] = e;
-    }
-  // Sort each particle's reverse entries by the owner's id (canonical order).
-  for (std::size_t j = 0; j < n; ++j) {
-    auto b = rev_entries_.begin() + rev_offsets_[j], en = rev_entries_.begin() + rev_offsets_[j + 1];
-    std::sort(b, en, [&](std::int32_t a, std::int32_t c) {
-      return p.id[owner[static_cast<std::size_t>(a)]] < p.id[owner[static_cast<std::size_t>(c)]];
+  const std::size_t npairs = pairs_.size();
+  if (npairs >= (std::size_t{1} << 29))
+    throw std::runtime_error("neighbour list: more than 2^29 pairs are not supported");
+  // Storage indices in ascending id order, cached: the particle order of a
+  // Simulation never changes, so this is sorted once and then only checked.
+  bool valid = by_id_.size() == n;
+  for (std::size_t k = 1; valid && k < n; ++k)
+    valid = p.id[static_cast<std::size_t>(by_id_[k - 1])] < p.id[static_cast<std::size_t>(by_id_[k])];
+  if (!valid) {
+    by_id_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) by_id_[i] = static_cast<std::int32_t>(i);
+    std::sort(by_id_.begin(), by_id_.end(), [&](std::int32_t a, std::int32_t b) {
+      return p.id[static_cast<std::size_t>(a)] < p.id[static_cast<std::size_t>(b)];
     });
   }
+  owners_.resize(npairs);
+  for (std::size_t i = 0; i < n; ++i)
+    std::fill(owners_.begin() + offsets_[i], owners_.begin() + offsets_[i + 1], static_cast<std::int32_t>(i));
+
+  // Reverse index: for each particle, the entries where it is the partner.
+  // Owners visited in ascending id: each particle's reverse entries come out
+  // sorted by the owner's id (the canonical order) without a sort.
+  std::vector<std::int32_t> rev_offsets(n + 1, 0), rev_entries(npairs);
+  for (std::int32_t j : pairs_.partner) ++rev_offsets[static_cast<std::size_t>(j) + 1];
+  for (std::size_t i = 0; i < n; ++i) rev_offsets[i + 1] += rev_offsets[i];
+  {
+    std::vector<std::int32_t> fill(rev_offsets.begin(), rev_offsets.end() - 1);
+    for (std::int32_t i : by_id_)
+      for (std::int32_t e = offsets_[static_cast<std::size_t>(i)]; e < offsets_[static_cast<std::size_t>(i) + 1]; ++e)
+        rev_entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(pairs_.partner[e])]++)] = e;
+  }
+
+  // Gather slots: per particle its reverse entries (partners of lower id,
+  // force added) then its own entries (higher id, force subtracted), i.e.
+  // ascending partner id; the last slot of each particle is flagged.
+  gather_offsets_.resize(n + 1);
+  gather_code_.resize(2 * npairs);
+  std::size_t g = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    gather_offsets_[i] = static_cast<std::int32_t>(g);
+    for (std::int32_t k = rev_offsets[i]; k < rev_offsets[i + 1]; ++k, ++g) {
+      gather_code_[g] = rev_entries[static_cast<std::size_t>(k)] * 4;
+    }
+    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e, ++g) {
+      gather_code_[g] = e * 4 + 2;
+    }
+    if (g > static_cast<std::size_t>(gather_offsets_[i])) gather_code_[g - 1] |= 1;
+  }
+  gather_offsets_[n] = static_cast<std::int32_t>(g);
 }
 
 double NeighborList::max_displacement2(const Particles& p, const PeriodicCell& cell) const {
@@ -232,7 +261,8 @@ std::size_t NeighborList::restore(const Particles& p, const std::vector<ContactH
           // evaluation clears the spring if the pair has separated, exactly
           // as an uninterrupted run does. Every entry's flag is rewritten by
           // the force evaluation before anything reads it as an overlap.
-          pairs_.half_overlap[e] = -1.0;
+          pairs_.state[e].half_overlap = -1.0;
+          pairs_.active[e] = 1;
           found = true;
           break;
         }

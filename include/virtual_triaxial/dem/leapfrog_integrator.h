@@ -48,8 +48,18 @@ class LeapfrogIntegrator {
                           bool measure);
 
  private:
+  /// Per-particle constants of eq. 2, packed (the integrator streams them).
+  struct Coefficients {
+    double decay = 0;     ///< (1 - a dt/2) / (1 + a dt/2)
+    double kick = 0;      ///< dt / ((1 + a dt/2) m)
+    double kick_rot = 0;  ///< dt / ((1 + a dt/2) I)
+    double alpha_dt = 0;  ///< a dt
+    double mass = 0;      ///< m [kg]
+    double inertia = 0;   ///< I [kg m^2] (sphere)
+  };
   double dt_ = 0;
-  std::vector<double> alpha_, decay_, kick_, kick_rot_;
+  std::vector<double> alpha_;
+  std::vector<Coefficients> coef_;
   std::vector<IntegrationSums> chunk_sums_;
 };
 

@@ -6,11 +6,11 @@
 // orientation is therefore fixed by the stable ids (i = lower id), and so is
 // the per-pair data kept with each entry: the tangential spring (contact
 // history), keyed by the id pair and carried over on every rebuild.
-// A reverse index lists, for each particle, the entries where it is the
-// partner, sorted by the other particle's id, so that forces can be gathered
-// per particle in a canonical order (ascending partner id) whatever the list
-// layout: results do not depend on when the list was rebuilt or on the
-// number of threads.
+// Gather slots list, for each particle, first the entries where it is the
+// partner (sorted by the other particle's id), then its own entries, so
+// that forces are summed per particle in a canonical order (ascending
+// partner id) whatever the list layout: results do not depend on when the
+// list was rebuilt or on the number of threads.
 //
 // Rebuild criterion: 2 max_p |H (s_p - s_p,build)| + ||H H_build^-1 - I||_F
 // * cutoff_max > skin, i.e. no pair can have closed the skin since the build,
@@ -26,13 +26,61 @@
 
 namespace vt::dem {
 
-/// Per-entry pair data (structure of arrays, indexed by list entry).
+/// Result of the last force evaluation of one list entry. One cache line:
+/// the gather reads an entry owned by another particle as a single line.
+struct alignas(64) PairState {
+  Vec3 force;                ///< total contact force on j [N]; zero when not in contact
+  Vec3 moment_axis;          ///< n x F_on_i [N]; torque on i = l_i * this; zero when not in contact
+  double half_overlap = 0;   ///< delta/2 [m]; 0 when not in contact
+};
+
+/// Read-only view of one field of PairData::state, indexed by list entry
+/// (pd.force[e], pd.half_overlap[e] read as if they were arrays).
+template <class T, T PairState::*Field>
+class PairField {
+ public:
+  explicit PairField(const std::vector<PairState>* v) : v_(v) {}
+  PairField(const PairField&) = delete;
+  PairField& operator=(const PairField&) = delete;
+  const T& operator[](std::size_t e) const { return (*v_)[e].*Field; }
+  std::size_t size() const { return v_->size(); }
+
+ private:
+  const std::vector<PairState>* v_;
+};
+
+/// Per-entry pair data, indexed by list entry.
 struct PairData {
   std::vector<std::int32_t> partner;  ///< storage index of j
   std::vector<Vec3> spring;           ///< tangential force on j [N]
-  std::vector<Vec3> force;            ///< total contact force on j [N] (last evaluation)
-  std::vector<Vec3> moment_axis;      ///< n x F_on_i [N]; torque on i = l_i * this
-  std::vector<double> half_overlap;   ///< delta/2 [m]; 0 when not in contact
+  std::vector<PairState> state;       ///< last evaluation (force, moment axis, overlap)
+  std::vector<std::uint8_t> active;   ///< 1: in contact at the last evaluation (= half_overlap != 0)
+  // Read-only views of the fields of `state`.
+  PairField<Vec3, &PairState::force> force{&state};              ///< force on j [N]
+  PairField<Vec3, &PairState::moment_axis> moment_axis{&state};  ///< n x F_on_i [N]
+  PairField<double, &PairState::half_overlap> half_overlap{&state};  ///< delta/2 [m]
+
+  PairData() = default;
+  PairData(const PairData& o) : partner(o.partner), spring(o.spring), state(o.state), active(o.active) {}
+  PairData(PairData&& o) noexcept
+      : partner(std::move(o.partner)),
+        spring(std::move(o.spring)),
+        state(std::move(o.state)),
+        active(std::move(o.active)) {}
+  PairData& operator=(const PairData& o) {
+    partner = o.partner;
+    spring = o.spring;
+    state = o.state;
+    active = o.active;
+    return *this;
+  }
+  PairData& operator=(PairData&& o) noexcept {
+    partner = std::move(o.partner);
+    spring = std::move(o.spring);
+    state = std::move(o.state);
+    active = std::move(o.active);
+    return *this;
+  }
 
   std::size_t size() const { return partner.size(); }
   void resize(std::size_t n);
@@ -65,8 +113,14 @@ class NeighborList {
   std::int64_t rebuild_count() const { return rebuilds_; }
 
   const std::vector<std::int32_t>& offsets() const { return offsets_; }
-  const std::vector<std::int32_t>& reverse_offsets() const { return rev_offsets_; }
-  const std::vector<std::int32_t>& reverse_entries() const { return rev_entries_; }
+  /// Gather slots in CSR form (gather_offsets, size N+1): for particle i,
+  /// first the entries where i is the partner (sorted by the owner's id),
+  /// then i's own entries, i.e. ascending partner id. Slot code =
+  /// 4 entry + 2 (own entry: force on i is -force) + 1 (last slot of i).
+  const std::vector<std::int32_t>& gather_offsets() const { return gather_offsets_; }
+  const std::vector<std::int32_t>& gather_codes() const { return gather_code_; }
+  /// Owner (storage index of i, the lower id) of every entry.
+  const std::vector<std::int32_t>& owners() const { return owners_; }
   PairData& pairs() { return pairs_; }
   const PairData& pairs() const { return pairs_; }
 
@@ -87,7 +141,9 @@ class NeighborList {
   double cutoff_max_ = 0.0;
   std::vector<std::int32_t> offsets_;   ///< CSR offsets, size N+1
   PairData pairs_;
-  std::vector<std::int32_t> rev_offsets_, rev_entries_;
+  std::vector<std::int32_t> gather_offsets_, gather_code_;
+  std::vector<std::int32_t> owners_;
+  std::vector<std::int32_t> by_id_;  ///< storage indices in ascending id order
   std::vector<Vec3> frac_at_build_;
   Mat3 h_at_build_inv_;
   // bins
