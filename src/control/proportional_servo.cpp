@@ -35,6 +35,11 @@ void ProportionalServo::start(double time) {
 
 void ProportionalServo::stop() { running_ = false; }
 
+void ProportionalServo::set_parameters(const ServoParameters& p) {
+  validate_servo_parameters(p);
+  p_ = p;
+}
+
 ServoOutput ProportionalServo::update(const ServoInput& in) {
   if (!running_)
     throw std::logic_error("servo 'proportional': update() called while not started");

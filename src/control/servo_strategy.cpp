@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "virtual_triaxial/control/pid_servo.h"
 #include "virtual_triaxial/control/proportional_servo.h"
 
 namespace vt::control {
@@ -30,6 +31,14 @@ void validate_servo_parameters(const ServoParameters& p) {
     throw std::invalid_argument(
         "ServoParameters: max_strain_rate [1/s] must be finite and > 0, got " +
         std::to_string(p.max_strain_rate));
+  if (!(std::isfinite(p.ki) && p.ki >= 0.0 && p.ki <= 1.0))
+    throw std::invalid_argument("ServoParameters: ki must be in [0, 1], got " + std::to_string(p.ki));
+  if (!(std::isfinite(p.kd) && p.kd >= 0.0 && p.kd <= 0.2))
+    throw std::invalid_argument("ServoParameters: kd must be in [0, 0.2], got " + std::to_string(p.kd));
+  if (!(std::isfinite(p.max_rate_change) && p.max_rate_change >= 0.0))
+    throw std::invalid_argument(
+        "ServoParameters: max_rate_change [1/s] must be finite and >= 0 (0 = no limit), got " +
+        std::to_string(p.max_rate_change));
 }
 
 void ServoStrategy::store_targets(const dem::Vec3& target_stress) {
@@ -61,8 +70,9 @@ bool ServoStrategy::within(const dem::Vec3& stress, double tol) const {
 
 std::unique_ptr<ServoStrategy> make_servo(const std::string& name, const ServoParameters& p) {
   if (name == "proportional") return std::make_unique<ProportionalServo>(p);
+  if (name == "pid") return std::make_unique<PidServo>(p);
   throw std::invalid_argument("make_servo: unknown servo strategy '" + name +
-                              "' (known: proportional)");
+                              "' (known: proportional, pid)");
 }
 
 }  // namespace vt::control

@@ -32,16 +32,21 @@ void ResultsRecorder::on_progress(const std::string& line) {
 }
 
 void ResultsRecorder::finish(const protocol::RunReport& r, const dem::Simulation& sim) {
+  finish(r, run_context(sim));
+}
+
+void ResultsRecorder::finish(const protocol::RunReport& r, const RunContext& ctx) {
   std::map<std::string, double> num;
   std::map<std::string, std::string> txt;
   txt["verdict"] = protocol::to_string(r.verdict);
   txt["failure"] = r.failure;
   num["steps"] = static_cast<double>(r.steps);
   num["wall_seconds"] = r.wall_seconds;
-  num["particles"] = static_cast<double>(sim.particles().size());
-  num["t0_s"] = sim.time_scale().t0;
-  num["dt_s"] = sim.dt();
-  num["l0_m"] = sim.time_scale().l0;
+  num["ticks"] = static_cast<double>(r.ticks);
+  num["particles"] = static_cast<double>(ctx.particles);
+  num["t0_s"] = ctx.t0;
+  num["dt_s"] = ctx.dt;
+  num["l0_m"] = ctx.l0;
   if (r.shear.has_data) {
     num["e0"] = r.shear.e0;
     num["phi_peak_rad"] = r.shear.phi_peak;
@@ -51,9 +56,19 @@ void ResultsRecorder::finish(const protocol::RunReport& r, const dem::Simulation
     num["p_end_pa"] = r.shear.p_end;
     num["q_end_pa"] = r.shear.q_end;
     num["mean_moment_index_to_peak"] = r.shear.mean_moment_index_to_peak;
+    num["quasi_static_threshold"] = r.shear.quasi_static_threshold;
     txt["quasi_static"] = r.shear.quasi_static ? "yes" : "no";
   }
-  num["energy_relative_balance_error"] = sim.energy().relative_balance_error();
+  num["energy_relative_balance_error"] = ctx.energy_relative_balance_error;
+  if (!r.stages.empty()) {
+    std::string names, reasons;
+    for (const protocol::StageOutcome& s : r.stages) {
+      names += (names.empty() ? "" : "; ") + s.name;
+      reasons += (reasons.empty() ? "" : "; ") + s.name + ": " + s.stop_reason;
+    }
+    txt["stages"] = names;
+    txt["stop_reasons"] = reasons;
+  }
   writer_.set_summary(num, txt);
   writer_.flush();
 }

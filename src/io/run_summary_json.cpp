@@ -30,7 +30,17 @@ std::string number(double x) {
 
 }  // namespace
 
-std::string run_summary_json(const protocol::RunReport& r, const dem::Simulation& sim, const std::string& results) {
+RunContext run_context(const dem::Simulation& sim) {
+  RunContext c;
+  c.particles = sim.particles().size();
+  c.t0 = sim.time_scale().t0;
+  c.dt = sim.dt();
+  c.l0 = sim.time_scale().l0;
+  c.energy_relative_balance_error = sim.energy().relative_balance_error();
+  return c;
+}
+
+std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx, const std::string& results) {
   std::ostringstream o;
   o << "{\"verdict\":" << quoted(protocol::to_string(r.verdict));
   if (!r.failure.empty()) o << ",\"failure\":" << quoted(r.failure);
@@ -40,9 +50,8 @@ std::string run_summary_json(const protocol::RunReport& r, const dem::Simulation
     o << (i ? "," : "") << "{\"name\":" << quoted(s.name) << ",\"type\":" << quoted(protocol::to_string(s.type))
       << ",\"steps\":" << s.steps << ",\"stop\":" << quoted(s.stop_reason) << "}";
   }
-  o << "],\"steps\":" << r.steps << ",\"wall_seconds\":" << number(r.wall_seconds)
-    << ",\"particles\":" << sim.particles().size() << ",\"t0_s\":" << number(sim.time_scale().t0)
-    << ",\"dt_s\":" << number(sim.dt());
+  o << "],\"steps\":" << r.steps << ",\"ticks\":" << r.ticks << ",\"wall_seconds\":" << number(r.wall_seconds)
+    << ",\"particles\":" << ctx.particles << ",\"t0_s\":" << number(ctx.t0) << ",\"dt_s\":" << number(ctx.dt);
   if (r.shear.has_data) {
     const double deg = 180.0 / M_PI;
     o << ",\"e0\":" << number(r.shear.e0) << ",\"phi_peak_deg\":" << number(r.shear.phi_peak * deg)
@@ -50,9 +59,10 @@ std::string run_summary_json(const protocol::RunReport& r, const dem::Simulation
       << ",\"phi_end_deg\":" << number(r.shear.phi_end * deg) << ",\"eps_end\":" << number(r.shear.eps_end)
       << ",\"p_end_pa\":" << number(r.shear.p_end) << ",\"q_end_pa\":" << number(r.shear.q_end)
       << ",\"mean_moment_index_to_peak\":" << number(r.shear.mean_moment_index_to_peak)
+      << ",\"quasi_static_threshold\":" << number(r.shear.quasi_static_threshold)
       << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false");
   }
-  o << ",\"energy_relative_balance_error\":" << number(sim.energy().relative_balance_error())
+  o << ",\"energy_relative_balance_error\":" << number(ctx.energy_relative_balance_error)
     << ",\"results\":" << quoted(results) << "}";
   return o.str();
 }

@@ -7,6 +7,16 @@
 
 namespace vt::io {
 
+protocol::RunOptions SceneConfig::run_options() const {
+  protocol::RunOptions o;
+  o.sample_interval = output.interval;
+  o.progress_seconds = output.progress_seconds;
+  o.control_interval = control.interval;
+  o.servo = control.servo;
+  o.quasi_static_threshold = control.quasi_static_threshold;
+  return o;
+}
+
 dem::SimulationSettings settings_from_scene(const SceneConfig& scene) {
   dem::SimulationSettings s;
   s.material = scene.material;

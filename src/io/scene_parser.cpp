@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "virtual_triaxial/control/servo_strategy.h"
 #include "virtual_triaxial/io/yaml_fields.h"
 
 namespace vt::io {
@@ -224,23 +225,59 @@ void parse_output(const YAML::Node& node, OutputSpec& out) {
   out.progress_seconds = positive(s, "progress_seconds", out.progress_seconds);
 }
 
-// ---- stages ----------------------------------------------------------------------
-
-StageType parse_stage_type(const Section& s) {
-  const std::string t = s.string("type");
-  const std::string l = lower(t);
-  if (l == "isotropic_compression") return StageType::IsotropicCompression;
-  if (l == "undrained_shear") return StageType::UndrainedShear;
-  if (l == "relax") return StageType::Relax;
-  throw SceneError(s.path("type"), "unknown stage type '" + t +
-                                       "'; allowed: isotropic_compression, undrained_shear, relax");
+void parse_control(const YAML::Node& node, ControlSpec& c) {
+  const Section s(node, "control", {"interval", "servo", "quasi_static_threshold"});
+  c.interval = s.integer_or("interval", c.interval);
+  require(c.interval >= 1, s.path("interval"), "must be an integer >= 1, got " + std::to_string(c.interval));
+  c.quasi_static_threshold = positive(s, "quasi_static_threshold", c.quasi_static_threshold);
+  const Section v(s.get("servo"), s.path("servo"),
+                  {"strategy", "gain", "max_dimensionless_rate", "ki", "kd", "max_rate_change"});
+  protocol::ServoSettings& sv = c.servo;
+  sv.strategy = v.string_or("strategy", sv.strategy);
+  sv.parameters.gain = positive(v, "gain", sv.parameters.gain);
+  require(sv.parameters.gain <= 1.0, v.path("gain"), "must be in (0, 1], got " + num(sv.parameters.gain));
+  sv.max_dimensionless_rate = positive(v, "max_dimensionless_rate", sv.max_dimensionless_rate);
+  sv.parameters.max_strain_rate = 1.0;  // placeholder for the check below; set from T0 per stage
+  try {
+    control::make_servo(sv.strategy, sv.parameters);
+  } catch (const std::invalid_argument& e) {
+    throw SceneError(v.path("strategy"), e.what());
+  }
 }
 
-void parse_stop(const Section& stage, StopCriteria& stop) {
-  require(stage.has("stop"), stage.path("stop"),
-          "required: give at least one of mean_stress, axial_strain, steps, ufr_below");
+// ---- stages ----------------------------------------------------------------------
+
+StageType parse_type(const Section& s) {
+  const std::string t = s.string("type");
+  StageType type;
+  require(protocol::parse_stage_type(lower(t), type), s.path("type"),
+          "unknown stage type '" + t + "'; allowed: " + protocol::stage_type_names());
+  return type;
+}
+
+void parse_balanced(const Section& stop, StopCriteria& c) {
+  const Section s(stop.get("balanced"), stop.path("balanced"), {"stress_tolerance", "ufr_below"});
+  protocol::BalanceCriterion b;
+  b.stress_tolerance = positive(s, "stress_tolerance", b.stress_tolerance);
+  b.ufr_below = positive(s, "ufr_below", b.ufr_below);
+  c.balanced = b;
+}
+
+void parse_stop(const Section& stage, StageType type, StopCriteria& stop) {
+  const char* all = "mean_stress, axial_strain, steps, ufr_below, softening, balanced";
+  require(stage.has("stop"), stage.path("stop"), std::string("required: give at least one of ") + all);
   const Section s(stage.get("stop"), stage.path("stop"),
-                  {"mean_stress", "axial_strain", "steps", "ufr_below"});
+                  {"mean_stress", "axial_strain", "steps", "ufr_below", "softening", "balanced"});
+  if (s.has("softening")) {
+    stop.softening = s.number("softening");
+    require(*stop.softening > 0.0 && *stop.softening < 1.0, s.path("softening"),
+            "must be a fraction in (0, 1) (drop of q below its peak), got " + num(*stop.softening));
+  }
+  if (s.has("balanced")) {
+    require(protocol::uses_servo(type), s.path("balanced"),
+            "only for servo stages (isotropic_consolidation, drained_shear)");
+    parse_balanced(s, stop);
+  }
   if (s.has("mean_stress")) stop.mean_stress = positive(s, "mean_stress");
   if (s.has("axial_strain")) stop.axial_strain = positive(s, "axial_strain");
   if (s.has("ufr_below")) stop.ufr_below = positive(s, "ufr_below");
@@ -249,23 +286,35 @@ void parse_stop(const Section& stage, StopCriteria& stop) {
     require(*stop.steps > 0, s.path("steps"),
             "must be an integer > 0, got " + std::to_string(*stop.steps));
   }
-  require(stop.mean_stress || stop.axial_strain || stop.steps || stop.ufr_below, s.path(),
-          "needs at least one of mean_stress, axial_strain, steps, ufr_below");
+  require(stop.mean_stress || stop.axial_strain || stop.steps || stop.ufr_below || stop.softening ||
+              stop.balanced,
+          s.path(), std::string("needs at least one of ") + all);
 }
 
 StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
   const Section s(node, index("stages", i),
-                  {"name", "type", "strain_rate_dimensionless", "strain_rate", "axial_axis", "stop"});
+                  {"name", "type", "strain_rate_dimensionless", "strain_rate", "confining_pressure", "axial_axis",
+                   "stop"});
   StageSpec st;
   st.name = s.string_or("name", "stage" + std::to_string(i));
   require(!st.name.empty(), s.path("name"), "must be a non-empty string");
-  st.type = parse_stage_type(s);
+  st.type = parse_type(s);
+  if (protocol::uses_servo(st.type)) {
+    require(s.has("confining_pressure"), s.path("confining_pressure"),
+            std::string("required for a ") + protocol::to_string(st.type) + " stage (servo target, Pa)");
+    st.confining_pressure = positive(s, "confining_pressure");
+  } else {
+    require(!s.has("confining_pressure"), s.path("confining_pressure"),
+            "only for servo stages (isotropic_consolidation, drained_shear)");
+  }
 
   const bool has_dimless = s.has("strain_rate_dimensionless");
   const bool has_rate = s.has("strain_rate");
-  if (st.type == StageType::Relax) {
+  if (st.type == StageType::Relax || st.type == StageType::IsotropicConsolidation) {
     for (const char* key : {"strain_rate_dimensionless", "strain_rate"})
-      require(!s.has(key), s.path(key), "not allowed for a relax stage (no strain rate is applied)");
+      require(!s.has(key), s.path(key),
+              std::string("not allowed for a ") + protocol::to_string(st.type) +
+                  " stage (no open-loop strain rate is applied)");
   } else {
     require(!(has_dimless && has_rate), s.path("strain_rate"),
             "give exactly one of strain_rate_dimensionless and strain_rate, not both");
@@ -277,15 +326,15 @@ StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
   }
 
   if (s.has("axial_axis")) {
-    require(st.type == StageType::UndrainedShear, s.path("axial_axis"),
-            "only allowed for undrained_shear stages");
+    require(protocol::is_shear(st.type), s.path("axial_axis"),
+            "only allowed for drained_shear and undrained_shear stages");
     const std::string a = s.string("axial_axis");
     const std::string l = lower(a);
     require(l == "x" || l == "y" || l == "z", s.path("axial_axis"),
             "expected x, y or z, got '" + a + "'");
     st.axial_axis = l == "x" ? 0 : (l == "y" ? 1 : 2);
   }
-  parse_stop(s, st.stop);
+  parse_stop(s, st.type, st.stop);
   return st;
 }
 
@@ -300,7 +349,7 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   cfg.source_path = source_path;
   const Section top(doc, "",
                     {"material", "particles", "cell", "damping", "time_step_ratio", "stability",
-                     "stages", "output"});
+                     "stages", "output", "control"});
   parse_material(top.get("material"), cfg.material);
   parse_particles(top.required("particles"), source_path, cfg);
   parse_cell(top.get("cell"), cfg);
@@ -312,6 +361,10 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   parse_stability(top.get("stability"), cfg.stability);
   parse_stages(top.required("stages"), cfg.stages);
   parse_output(top.get("output"), cfg.output);
+  parse_control(top.get("control"), cfg.control);
+  require(cfg.output.interval % cfg.control.interval == 0, "output.interval",
+          "must be a multiple of control.interval (" + std::to_string(cfg.control.interval) +
+              ") so that samples fall on control ticks, got " + std::to_string(cfg.output.interval));
   return cfg;
 }
 

@@ -26,6 +26,7 @@ void ShearSummaryBuilder::add(const dem::Measures& m) {
 ShearSummary ShearSummaryBuilder::summary() const {
   ShearSummary s = s_;
   s.mean_moment_index_to_peak = n_at_peak_ > 0 ? sum_imom_at_peak_ / static_cast<double>(n_at_peak_) : 0.0;
+  s.quasi_static_threshold = i_qs_;
   s.quasi_static = s.has_data && s.mean_moment_index_to_peak < i_qs_;
   return s;
 }

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
+
+#include "virtual_triaxial/dem/axis_stiffness.h"
 
 namespace vt::protocol {
 
@@ -11,6 +14,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 const char* axis_name(int a) { return a == 0 ? "x" : (a == 1 ? "y" : "z"); }
+
+/// Velocity gradient (extension positive) that scales L_i by exp(-r_i dt) per step.
+dem::Vec3 velocity_gradient(const double rates[3], double dt) {
+  dem::Vec3 l;
+  for (int i = 0; i < 3; ++i) l[i] = std::expm1(-rates[i] * dt) / dt;
+  return l;
+}
 }  // namespace
 
 const char* to_string(Verdict v) {
@@ -18,56 +28,20 @@ const char* to_string(Verdict v) {
     case Verdict::Completed: return "completed";
     case Verdict::Unstable: return "unstable";
     case Verdict::StepLimit: return "step_limit";
+    case Verdict::Aborted: return "aborted";
   }
   return "?";
 }
 
-void StageRunner::apply_rates(const StageSpec& st) {
-  const double t0 = sim_.time_scale().t0, dt = sim_.dt();
-  const double rate = st.strain_rate ? *st.strain_rate
-                                     : (st.strain_rate_dimensionless ? *st.strain_rate_dimensionless / t0 : 0.0);
-  dem::Vec3 r{};
-  switch (st.type) {
-    case StageType::IsotropicCompression:
-      r = {-rate, -rate, -rate};
-      break;
-    case StageType::UndrainedShear: {
-      const double lateral = (1.0 / std::sqrt(1.0 - rate * dt) - 1.0) / dt;
-      r = {lateral, lateral, lateral};
-      r[st.axial_axis] = -rate;
-      break;
-    }
-    case StageType::Relax:
-      break;
-  }
-  sim_.set_strain_rates(r);
-}
-
-std::string StageRunner::stop_reason(const StageSpec& st, std::int64_t k, const dem::Measures* sample) const {
-  const StopCriteria& c = st.stop;
-  std::ostringstream s;
-  if (c.steps && k >= *c.steps) {
-    s << "steps " << k;
-    return s.str();
-  }
-  if (c.mean_stress) {
-    const double p = sim_.current_mean_stress();
-    if (p >= *c.mean_stress) {
-      s << "mean stress " << p << " Pa >= " << *c.mean_stress << " Pa";
-      return s.str();
-    }
-  }
-  if (c.axial_strain) {
-    const double eps = -std::log(sim_.cell().h()(st.axial_axis, st.axial_axis) / axial_start_);
-    if (eps >= *c.axial_strain) {
-      s << "axial strain " << eps << " >= " << *c.axial_strain;
-      return s.str();
-    }
-  }
-  if (c.ufr_below && sample && sample->ufr < *c.ufr_below && sample->contacts > 0) {
-    s << "UFR " << sample->ufr << " < " << *c.ufr_below;
-    return s.str();
-  }
+std::string validate(const RunOptions& o) {
+  if (o.control_interval < 1) return "control_interval: must be an integer >= 1";
+  if (o.sample_interval < 1) return "sample_interval: must be an integer >= 1";
+  if (o.sample_interval % o.control_interval != 0)
+    return "sample_interval: must be a multiple of control_interval (" + std::to_string(o.control_interval) +
+           ") so that samples fall on control ticks";
+  if (!(std::isfinite(o.servo.max_dimensionless_rate) && o.servo.max_dimensionless_rate > 0))
+    return "servo.max_dimensionless_rate: must be finite and > 0";
+  if (!(o.quasi_static_threshold > 0)) return "quasi_static_threshold: must be > 0";
   return {};
 }
 
@@ -85,8 +59,23 @@ std::string StageRunner::progress_line(const StageSpec& st, std::int64_t k, cons
 
 bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& report) {
   sim_.reset_strain_reference();
-  axial_start_ = sim_.cell().h()(st.axial_axis, st.axial_axis);
-  apply_rates(st);
+  const double t0 = sim_.time_scale().t0, dt = sim_.dt();
+  const std::int64_t n = options_.control_interval;
+  const StageBoundary boundary = stage_boundary(st, t0);
+  StageMonitor monitor(st, boundary);
+  std::unique_ptr<control::ServoStrategy> servo;
+  double rates[3];
+  for (int i = 0; i < 3; ++i) rates[i] = boundary.open_rate[i];
+  if (boundary.any_servo()) {
+    control::ServoParameters p = options_.servo.parameters;
+    p.max_strain_rate = options_.servo.max_dimensionless_rate / t0;
+    servo = control::make_servo(options_.servo.strategy, p);
+    servo->init({boundary.target[0], boundary.target[1], boundary.target[2]},
+                {boundary.servo[0], boundary.servo[1], boundary.servo[2]});
+    servo->start(sim_.time());
+    for (int i = 0; i < 3; ++i)
+      if (boundary.servo[i]) rates[i] = 0.0;
+  }
   obs.on_stage_start(st, sim_);
   ShearSummaryBuilder shear(st.axial_axis, options_.quasi_static_threshold);
   StageOutcome out;
@@ -107,25 +96,61 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   auto record = [&]() {
     last = sim_.measures();
     obs.on_sample(st, last);
-    if (st.type == StageType::UndrainedShear) shear.add(last);
+    if (is_shear(st.type)) shear.add(last);
     if (options_.keep_last_good) report.last_good = sim_.state();
   };
   while (true) {
-    const bool sample = k % options_.sample_interval == 0;
-    if (!sim_.step(sample)) {
-      ok = mark_unstable();
+    if (abort_) {
+      ok = false;
+      report.verdict = Verdict::Aborted;
+      report.failure = "aborted during stage '" + st.name + "'";
+      out.stop_reason = "aborted";
       break;
     }
-    ++k;
+    sim_.set_strain_rates(velocity_gradient(rates, dt));
+    const bool sample = is_sample_tick(k + n, n, options_.sample_interval);
+    const bool measure_end = sample || servo || n > 1;
+    bool stepped = true;
+    for (std::int64_t s = 0; s < n && stepped; ++s) stepped = sim_.step(measure_end && s == n - 1);
+    if (!stepped) {
+      ok = mark_unstable();
+      k += n;  // partial tick counted as whole: the run ends here anyway
+      break;
+    }
+    k += n;
+    ++report.ticks;
     if (sample) record();
-    std::string why = stop_reason(st, k, sample ? &last : nullptr);
+    const dem::Mat3 stress = sim_.current_stress();
+    if (servo) {
+      control::ServoInput in;
+      in.time = sim_.time();
+      in.dt = dt * static_cast<double>(n);
+      in.stress = {stress(0, 0), stress(1, 1), stress(2, 2)};
+      in.stiffness = dem::axis_stiffness(sim_);
+      const control::ServoOutput o = servo->update(in);
+      for (int i = 0; i < 3; ++i)
+        if (boundary.servo[i]) rates[i] = o.strain_rate[i];
+    }
+    TickSample ts;
+    ts.stage_steps = k;
+    ts.eps_a = -sim_.cell().log_strain()[st.axial_axis];
+    ts.p = stress.trace() / 3.0;
+    ts.q = stress(2, 2) - std::min(stress(0, 0), stress(1, 1));
+    for (int i = 0; i < 3; ++i) ts.stress[i] = stress(i, i);
+    if (sample) {
+      ts.ufr = last.ufr;
+      ts.contacts = last.contacts;
+    }
+    const std::string why = monitor.check(ts);
     if (!why.empty()) {
-      if (!sample) {  // one more step so that the stage ends on a sample
-        if (!sim_.step(true)) {
-          ok = mark_unstable();
-          break;
+      if (!sample) {
+        if (!measure_end) {  // one more measured step so that the stage ends on a sample
+          if (!sim_.step(true)) {
+            ok = mark_unstable();
+            break;
+          }
+          ++k;
         }
-        ++k;
         record();
       }
       out.stop_reason = why;
@@ -150,7 +175,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   out.steps = k;
   report.steps += k;
   report.stages.push_back(out);
-  if (st.type == StageType::UndrainedShear) report.shear = shear.summary();
+  if (is_shear(st.type)) report.shear = shear.summary();
   if (last.step > 0 || k > 0) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "[%s] done after %lld steps (%.1f s): %s", st.name.c_str(),
@@ -163,6 +188,8 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
 }
 
 RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& observer) {
+  const std::string bad = validate(options_);
+  if (!bad.empty()) throw std::invalid_argument("RunOptions: " + bad);
   RunReport report;
   const auto t0 = Clock::now();
   for (const StageSpec& st : stages)

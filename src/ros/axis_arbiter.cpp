@@ -44,7 +44,6 @@ std::string AxisArbiter::check_rate(double rate, const char* field) const {
 
 std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>& axes, std::uint64_t tick) {
   if (owner.empty()) return "owner: must not be empty";
-  if (axes.empty()) return "axes: no axis given";
   for (int a : axes) {
     std::string bad = check_axis(a, "axes");
     if (!bad.empty()) return bad;
@@ -52,6 +51,8 @@ std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>&
     if (!cur.empty() && cur != owner)
       return "axes: axis " + std::to_string(a) + " is owned by '" + cur + "'";
   }
+  // A claim without axes registers a lockstep participant (e.g. the protocol
+  // node): it owns no axis but must answer every tick after `tick`.
   auto it = owners_.find(owner);
   if (it == owners_.end()) it = owners_.emplace(owner, Owner{tick, 0, false}).first;
   for (int a : axes) {

@@ -38,6 +38,8 @@ DemNode::DemNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh) : nh
   pnh_.setCallbackQueue(&queue_);
   read_parameters();
   advertise();
+  // pnh_ uses queue_: reconfigure requests are served between control ticks.
+  reconfigure_ = std::make_unique<DemReconfigure>(pnh_, [this] { return sim_.get(); });
   last_diagnostics_ = ::ros::WallTime::now();
 }
 
@@ -85,6 +87,7 @@ void DemNode::install(Specimen s) {
   meta_ = s.meta;
   source_ = s.source;
   arbiter_.reset_commands();
+  if (reconfigure_) reconfigure_->sync();
   ROS_INFO("dem_node: %zu particles from %s; T0 %.4g s, dt %.4g s (c_t %.3g), %d steps per control tick, %s",
            sim_->particles().size(), source_.c_str(), sim_->time_scale().t0, sim_->dt(),
            sim_->settings().time_step_ratio, publish_every_, lockstep_ ? "lockstep" : "free-running");
@@ -327,8 +330,12 @@ bool DemNode::on_step(virtual_triaxial::Step::Request& rq, virtual_triaxial::Ste
 }
 
 bool DemNode::on_load(virtual_triaxial::LoadSample::Request& rq, virtual_triaxial::LoadSample::Response& rs) {
+  const auto ends_with = [&](const char* ext) {
+    const std::string e(ext);
+    return rq.path.size() >= e.size() && rq.path.compare(rq.path.size() - e.size(), e.size(), e) == 0;
+  };
   try {
-    install(loader_->load_sample(rq.path));
+    install(ends_with(".yaml") || ends_with(".yml") ? loader_->load_scene(rq.path) : loader_->load_sample(rq.path));
   } catch (const std::exception& e) {
     rs.success = false;
     rs.message = std::string("path: ") + e.what();
@@ -369,6 +376,7 @@ bool DemNode::on_set_damping(virtual_triaxial::SetDamping::Request& rq, virtual_
     rs.message = "ratio: must be a finite number >= 0";
   } else {
     sim_->set_damping(dem::MassDamping(model, rq.ratio));
+    if (reconfigure_) reconfigure_->sync();
     rs.success = true;
     rs.message = std::string("damping ") + dem::to_string(model) + " xi " + std::to_string(rq.ratio);
   }

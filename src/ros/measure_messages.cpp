@@ -89,4 +89,43 @@ virtual_triaxial::Fabric to_fabric_msg(const dem::Measures& m, const TickStamp& 
   return msg;
 }
 
+dem::Measures measures_from_messages(const virtual_triaxial::Stress& stress, const virtual_triaxial::Strain& strain,
+                                     const virtual_triaxial::MomentIndex& moment,
+                                     const virtual_triaxial::KineticEnergy& energy,
+                                     const virtual_triaxial::Fabric& fabric, std::int64_t step) {
+  dem::Measures m;
+  m.time = stress.time;
+  m.step = step;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m.stress(r, c) = stress.stress[static_cast<std::size_t>(3 * r + c)];
+  for (int i = 0; i < 3; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    m.principal_stress[i] = stress.principal[k];
+    m.strain[i] = strain.strain[k];
+  }
+  m.p = stress.p;
+  m.q = stress.q;
+  m.phi = stress.phi;
+  m.volumetric_strain = strain.volumetric;
+  m.void_ratio = fabric.void_ratio;
+  m.ufr = moment.ufr;
+  m.iuf = moment.iuf;
+  m.moment_index = moment.moment_index;
+  m.inertia_index = moment.inertia_index;
+  m.coordination_number = fabric.coordination_number;
+  m.raw_coordination_number = fabric.raw_coordination_number;
+  m.idle_mass_fraction = fabric.idle_mass_fraction;
+  m.contacts = static_cast<std::int64_t>(fabric.contacts);
+  m.sliding_contacts = static_cast<std::int64_t>(fabric.sliding_contacts);
+  dem::EnergyBudget& e = m.energy;
+  e.kinetic_translational = energy.translational;
+  e.kinetic_rotational = energy.rotational;
+  e.boundary_work = energy.boundary_work;
+  e.elastic = energy.elastic;
+  e.damping = energy.damping;
+  e.friction = energy.friction;
+  e.elastic_reference = energy.balance_error - e.balance_error();  // balance_error() is linear in it
+  return m;
+}
+
 }  // namespace vt::ros

@@ -2,6 +2,7 @@
 #include "virtual_triaxial/ros/servo_controller_node.h"
 
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -42,27 +43,125 @@ ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ro
   services_.push_back(
       pnh_.advertiseService("set_confining_pressure", &ServoControllerNode::on_set_confining_pressure, this));
   services_.push_back(pnh_.advertiseService("set_axis_targets", &ServoControllerNode::on_set_axis_targets, this));
+  services_.push_back(pnh_.advertiseService("set_axes", &ServoControllerNode::on_set_axes, this));
   services_.push_back(pnh_.advertiseService("enable", &ServoControllerNode::on_enable, this));
   services_.push_back(pnh_.advertiseService("disable", &ServoControllerNode::on_disable, this));
   retry_timer_ = nh_.createWallTimer(::ros::WallDuration(0.2), &ServoControllerNode::on_retry, this);
+  // Live tuning in the private namespace. The server first loads the .cfg
+  // defaults (and writes them to ~gain, ...): overwrite them with the values
+  // read above before the callback is attached (which calls it once).
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<virtual_triaxial::ServoConfig>>(reconfigure_mutex_, pnh_);
+  reconfigure_->updateConfig(current_config());
+  reconfigure_->setCallback(
+      [this](virtual_triaxial::ServoConfig& c, std::uint32_t level) { on_reconfigure(c, level); });
+}
+
+control::ServoParameters ServoControllerNode::tuning(double t0) const {
+  control::ServoParameters p;
+  p.gain = gain_;
+  p.ki = ki_;
+  p.kd = kd_;
+  p.max_strain_rate = max_dimensionless_rate_ / t0;
+  p.max_rate_change = max_rate_change_ / t0;
+  return p;
+}
+
+virtual_triaxial::ServoConfig ServoControllerNode::current_config() const {
+  virtual_triaxial::ServoConfig c;
+  c.gain = gain_;
+  c.ki = ki_;
+  c.kd = kd_;
+  c.max_dimensionless_rate = max_dimensionless_rate_;
+  c.max_rate_change = max_rate_change_;
+  return c;
+}
+
+void ServoControllerNode::on_reconfigure(virtual_triaxial::ServoConfig& c, std::uint32_t) {
+  // Each requested field is checked against the settings accepted so far; a
+  // refused one keeps its old value (written back into `c`, which the server
+  // replies with and publishes on ~parameter_updates).
+  std::string changes;
+  auto take = [&](const char* name, double& requested, double& current, const std::function<std::string()>& check) {
+    if (requested == current) return;
+    const double old = current;
+    current = requested;
+    const std::string why = check();
+    if (!why.empty()) {
+      current = old;
+      ROS_WARN("servo_controller_node: live tuning: ~%s %g refused (%s); keeping %g", name, requested,
+               why.c_str(), old);
+      requested = old;
+      return;
+    }
+    std::ostringstream text;
+    text << (changes.empty() ? "" : ", ") << name << " " << old << " -> " << current;
+    changes += text.str();
+  };
+  // gain, ki, kd: the control library's rules (messages name the field)
+  auto law_check = [&]() -> std::string {
+    try {
+      control::validate_servo_parameters(tuning(t0_ > 0.0 ? t0_ : 1.0));
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  take("gain", c.gain, gain_, law_check);
+  take("ki", c.ki, ki_, law_check);
+  take("kd", c.kd, kd_, law_check);
+  take("max_dimensionless_rate", c.max_dimensionless_rate, max_dimensionless_rate_, [&]() -> std::string {
+    if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
+      return "max_dimensionless_rate: must be a finite number > 0";
+    if (dem_max_dimensionless_rate_ > 0.0 && max_dimensionless_rate_ > dem_max_dimensionless_rate_)
+      return "max_dimensionless_rate: above dem_node's limit " + std::to_string(dem_max_dimensionless_rate_);
+    return "";
+  });
+  take("max_rate_change", c.max_rate_change, max_rate_change_, [&]() -> std::string {
+    if (!(std::isfinite(max_rate_change_) && max_rate_change_ >= 0.0))
+      return "max_rate_change: must be a finite number >= 0 (0 = no rate limit)";
+    return "";
+  });
+  if (changes.empty()) return;
+  if (t0_ > 0.0) {
+    params_ = tuning(t0_);
+    if (strategy_) {
+      try {
+        strategy_->set_parameters(params_);
+      } catch (const std::exception& e) {  // not expected: every field was checked
+        ROS_ERROR("servo_controller_node: live tuning: %s", e.what());
+      }
+    }
+  } else {
+    params_.gain = gain_;  // the rates follow when T0 is known (claim)
+    params_.ki = ki_;
+    params_.kd = kd_;
+  }
+  const bool unused = strategy_name_ == "proportional" && (ki_ != 0.0 || kd_ != 0.0 || max_rate_change_ != 0.0);
+  ROS_INFO("servo_controller_node: live tuning: %s (from the next control update)%s", changes.c_str(),
+           unused ? "; ki, kd, max_rate_change are not used by 'proportional'" : "");
 }
 
 void ServoControllerNode::read_parameters() {
   pnh_.param<std::string>("strategy", strategy_name_, "proportional");
   pnh_.param<std::string>("owner", owner_, ::ros::this_node::getName());
   if (owner_.empty()) throw std::invalid_argument("~owner: must not be empty");
-  params_.gain = optional_double(pnh_, "gain").value_or(0.5);
+  gain_ = optional_double(pnh_, "gain").value_or(0.5);
+  ki_ = optional_double(pnh_, "ki").value_or(0.0);
+  kd_ = optional_double(pnh_, "kd").value_or(0.0);
+  max_rate_change_ = optional_double(pnh_, "max_rate_change").value_or(0.0);
   max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(1e-4);
   if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
     throw std::invalid_argument("~max_dimensionless_rate: must be a finite number > 0");
-  // Validates ~strategy and ~gain now; the real cap needs T0 from dem_node.
-  control::ServoParameters probe = params_;
-  probe.max_strain_rate = 1.0;
+  // Validates ~strategy, ~gain, ~ki, ~kd, ~max_rate_change now (the messages
+  // name the field); the real rates need T0 from dem_node.
   try {
-    control::make_servo(strategy_name_, probe);
+    control::make_servo(strategy_name_, tuning(1.0));
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("~strategy / ~gain: ") + e.what());
+    throw std::invalid_argument(std::string("~strategy / ~gain / ~ki / ~kd / ~max_rate_change: ") + e.what());
   }
+  params_ = tuning(1.0);
+  params_.max_strain_rate = 0.0;  // set from T0 at the claim
+  params_.max_rate_change = 0.0;
 
   const auto target = optional_double(pnh_, "target");
   if (!target) throw std::invalid_argument("~target: required (stress target in Pa)");
@@ -87,7 +186,10 @@ std::string ServoControllerNode::try_claim() {
     return "waiting for dem_node's stress / cell_command connections";
   virtual_triaxial::GetInfo info;
   if (!info_client_.call(info)) return "get_info not available yet";
-  params_.max_strain_rate = max_dimensionless_rate_ / info.response.t0;
+  if (!(std::isfinite(info.response.t0) && info.response.t0 > 0.0)) return "get_info: T0 is not > 0";
+  t0_ = info.response.t0;
+  dem_max_dimensionless_rate_ = info.response.max_dimensionless_rate;
+  params_ = tuning(t0_);
   try {
     strategy_ = control::make_servo(strategy_name_, params_);
     strategy_->init(ramp_.value(info.response.time), mask_);
@@ -103,9 +205,10 @@ std::string ServoControllerNode::try_claim() {
   if (!claim.response.success) return "claim_axes refused: " + claim.response.message;
   claim_tick_ = claim.response.tick;
   claimed_ = true;
-  ROS_INFO("servo_controller_node: '%s' controls axes %s (%s, gain %g, |eps'| <= %g, T0 %.4g s)", owner_.c_str(),
-           axes_text(axes_).c_str(), strategy_name_.c_str(), params_.gain, max_dimensionless_rate_,
-           info.response.t0);
+  ROS_INFO("servo_controller_node: '%s' controls axes %s (%s, gain %g, ki %g, kd %g, |eps'| <= %g, "
+           "|delta eps'| <= %g per update, T0 %.4g s)",
+           owner_.c_str(), axes_text(axes_).c_str(), strategy_name_.c_str(), params_.gain, params_.ki, params_.kd,
+           max_dimensionless_rate_, max_rate_change_, info.response.t0);
   return "";
 }
 
@@ -185,8 +288,12 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
     st.saturated[k] = out.saturated[i];
     st.strain_rate[k] = out.strain_rate[i];
   }
-  st.gain = params_.gain;
-  st.max_strain_rate = params_.max_strain_rate;
+  const control::ServoParameters& p = strategy_->parameters();
+  st.gain = p.gain;
+  st.max_strain_rate = p.max_strain_rate;
+  st.ki = p.ki;
+  st.kd = p.kd;
+  st.max_rate_change = p.max_rate_change;
   state_pub_.publish(st);
 }
 
@@ -231,6 +338,49 @@ bool ServoControllerNode::on_set_axis_targets(virtual_triaxial::SetAxisTargets::
   for (std::uint8_t a : rq.axes) ramp_.ramp(a, rq.targets[a], last_time_, rq.ramp_seconds);
   rs.success = true;
   rs.message = "targets set";
+  return true;
+}
+
+bool ServoControllerNode::on_set_axes(virtual_triaxial::SetServoAxes::Request& rq,
+                                      virtual_triaxial::SetServoAxes::Response& rs) {
+  rs.success = false;
+  control::AxisMask mask{false, false, false};
+  std::vector<int> axes;
+  if (rq.axes.empty()) {
+    rs.message = "axes: no axis given";
+    return true;
+  }
+  for (std::uint8_t a : rq.axes) {
+    bool* m = a == 0 ? &mask.x : a == 1 ? &mask.y : a == 2 ? &mask.z : nullptr;
+    if (!m) {
+      rs.message = "axes: " + std::to_string(a) + " is not a cell axis (0 = x, 1 = y, 2 = z)";
+      return true;
+    }
+    if (*m) {
+      rs.message = "axes: axis " + std::to_string(a) + " listed twice";
+      return true;
+    }
+    *m = true;
+    axes.push_back(a);
+  }
+  const std::string why_release = release();
+  if (!why_release.empty()) ROS_WARN("servo_controller_node: set_axes: %s", why_release.c_str());
+  // New axes start at the current target of the first old axis.
+  const dem::Vec3 now = ramp_.value(last_time_);
+  const double base = now[axes_.front()];
+  for (int a : axes)
+    if (!controls(a)) ramp_.ramp(a, base, last_time_, 0.0);
+  axes_ = axes;
+  mask_ = mask;
+  strategy_.reset();
+  if (!enabled_) {
+    rs.success = true;
+    rs.message = "axes " + axes_text(axes_) + " (disabled: not claimed)";
+    return true;
+  }
+  const std::string why = try_claim();
+  rs.success = why.empty();
+  rs.message = why.empty() ? "axes " + axes_text(axes_) + " claimed" : "axes: " + why;
   return true;
 }
 

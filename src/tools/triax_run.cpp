@@ -59,9 +59,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "triax_run: %zu particles, L0 = %.4g m, T0 = %.4g s, dt = %.4g s (c_t = %g), damping %s xi = %g\n",
                  sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0, sim.dt(),
                  sim.time_scale().ct, vt::dem::to_string(scene.damping.model()), scene.damping.ratio());
-    vt::protocol::RunOptions opt;
-    opt.sample_interval = scene.output.interval;
-    opt.progress_seconds = a.quiet ? 0.0 : scene.output.progress_seconds;
+    vt::protocol::RunOptions opt = scene.run_options();
+    if (a.quiet) opt.progress_seconds = 0.0;
     vt::protocol::StageRunner runner(sim, opt);
     const vt::protocol::RunReport report = runner.run(scene.stages, recorder);
     recorder.finish(report, sim);
@@ -77,6 +76,7 @@ int main(int argc, char** argv) {
       case vt::protocol::Verdict::Completed: return 0;
       case vt::protocol::Verdict::Unstable: return 3;
       case vt::protocol::Verdict::StepLimit: return 4;
+      case vt::protocol::Verdict::Aborted: return 5;
     }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "triax_run: error: %s\n", e.what());

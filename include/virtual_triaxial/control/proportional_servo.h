@@ -36,6 +36,10 @@
 // reduces the error (compress at max rate below target, expand above) and is
 // reported saturated. A zero error gives rate 0. A negative K_i (a noisy
 // tangent estimate past the peak) is treated like K_i = 0.
+//
+// The PID terms of ServoParameters (ki, kd, max_rate_change) are ignored
+// here; PidServo (pid_servo.h) with ki = kd = max_rate_change = 0 gives the
+// same rates as this law, bit for bit.
 #pragma once
 
 #include "virtual_triaxial/control/servo_strategy.h"
@@ -56,7 +60,10 @@ class ProportionalServo : public ServoStrategy {
   ServoOutput update(const ServoInput& in) override;
   void stop() override;
 
-  const ServoParameters& parameters() const { return p_; }
+  const ServoParameters& parameters() const override { return p_; }
+  /// The law is stateless: the new gain / cap apply from the next update().
+  /// ki, kd and max_rate_change are validated but ignored.
+  void set_parameters(const ServoParameters& p) override;
   /// Time passed to the last start() [s].
   double start_time() const { return start_time_; }
 

@@ -45,10 +45,27 @@ struct ServoParameters {
   /// strain increment per step to max_strain_rate * dt and is the rate used
   /// when the packing has no stiffness, e.g. a loose cloud without contacts).
   double max_strain_rate = 0.0;
+
+  // ---- PID terms (strategy "pid", pid_servo.h; ignored by "proportional").
+  // The defaults (0, 0, 0) make the PID law identical to the proportional one.
+  // Like `gain`, ki and kd act on the stiffness-normalised error e / K_i, so
+  // they are dimensionless and independent of the sample's stiffness and of
+  // the control period.
+  /// Integral gain ki in [0, 1]: fraction of the current error added to the
+  /// integral term every control update (its steady contribution cancels a
+  /// constant drift d per update when ki * sum(e) = d).
+  double ki = 0.0;
+  /// Derivative gain kd in [0, 0.2], on the error change per update
+  /// e_n - e_{n-1}. The bounds keep the loop stable on an exactly known
+  /// linear packing for every g in (0, 1] and ki in [0, 1] (pid_servo.h).
+  double kd = 0.0;
+  /// Rate limit [1/s]: cap on |rate_n - rate_{n-1}| per control update and
+  /// axis, finite and >= 0; 0 = no limit.
+  double max_rate_change = 0.0;
 };
 
-/// Throws std::invalid_argument naming the field ("gain", "max_strain_rate")
-/// when a value is out of range or not finite.
+/// Throws std::invalid_argument naming the field ("gain", "max_strain_rate",
+/// "ki", "kd", "max_rate_change") when a value is out of range or not finite.
 void validate_servo_parameters(const ServoParameters& p);
 
 /// One control update.
@@ -65,7 +82,8 @@ struct ServoInput {
 struct ServoOutput {
   dem::Vec3 strain_rate;                    ///< [1/s], compression positive; 0 on uncontrolled axes
   dem::Vec3 error;                          ///< sigma - target [Pa]; 0 on uncontrolled axes
-  bool saturated[3] = {false, false, false};  ///< rate clipped at +-max_strain_rate
+  /// rate clipped at +-max_strain_rate (or, for "pid", by max_rate_change)
+  bool saturated[3] = {false, false, false};
 };
 
 class ServoStrategy {
@@ -85,6 +103,14 @@ class ServoStrategy {
   virtual ServoOutput update(const ServoInput& in) = 0;
   /// Stops control (update() throws until the next start()).
   virtual void stop() = 0;
+  /// Current tuning.
+  virtual const ServoParameters& parameters() const = 0;
+  /// Changes the tuning from the next update() on (live tuning), keeping the
+  /// controller's state (targets, axes, running, any integral / previous
+  /// rate), so the switch is bumpless where the law allows it. Throws
+  /// std::invalid_argument naming the field (validate_servo_parameters())
+  /// and then keeps the old tuning.
+  virtual void set_parameters(const ServoParameters& p) = 0;
 
   /// Relative tolerance check: |sigma_i - target_i| <= tol * |target_i| on
   /// every controlled axis (true when no axis is controlled; false for a NaN
@@ -108,7 +134,7 @@ class ServoStrategy {
   bool running_ = false;
 };
 
-/// Builds the strategy called `name` ("proportional"). Throws
+/// Builds the strategy called `name` ("proportional", "pid"). Throws
 /// std::invalid_argument naming the bad parameter, or the unknown strategy
 /// name together with the known ones.
 std::unique_ptr<ServoStrategy> make_servo(const std::string& name, const ServoParameters& p);

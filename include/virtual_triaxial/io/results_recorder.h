@@ -9,6 +9,7 @@
 
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/io/results_file.h"
+#include "virtual_triaxial/io/run_summary_json.h"
 #include "virtual_triaxial/io/scene_config.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 
@@ -23,6 +24,7 @@ class ResultsRecorder : public protocol::RunObserver {
 
   /// Write the summary attributes and flush the file.
   void finish(const protocol::RunReport& report, const dem::Simulation& sim);
+  void finish(const protocol::RunReport& report, const RunContext& ctx);
   /// Save a sample file (restartable state) with the scene's provenance.
   void save_sample(const std::string& path, const dem::SimulationState& s, const SceneConfig& scene) const;
 

@@ -8,7 +8,20 @@
 
 namespace vt::io {
 
-std::string run_summary_json(const protocol::RunReport& report, const dem::Simulation& sim,
+/// What a summary needs to know of the specimen besides the RunReport (so
+/// the ROS protocol node, which has no Simulation, can write one too).
+struct RunContext {
+  std::size_t particles = 0;
+  double t0 = 0, dt = 0, l0 = 0;               ///< [s], [s], [m]
+  double energy_relative_balance_error = 0;    ///< [1]
+};
+RunContext run_context(const dem::Simulation& sim);
+
+std::string run_summary_json(const protocol::RunReport& report, const RunContext& ctx,
                              const std::string& results_path);
+inline std::string run_summary_json(const protocol::RunReport& report, const dem::Simulation& sim,
+                                    const std::string& results_path) {
+  return run_summary_json(report, run_context(sim), results_path);
+}
 
 }  // namespace vt::io

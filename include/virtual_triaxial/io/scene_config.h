@@ -13,6 +13,7 @@
 #include "virtual_triaxial/dem/material.h"
 #include "virtual_triaxial/dem/stability_monitor.h"
 #include "virtual_triaxial/dem/vec3.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/protocol/stage_spec.h"
 
 namespace vt::io {
@@ -53,6 +54,13 @@ struct OutputSpec {
   double progress_seconds = 2.0;       ///< wall seconds between progress lines
 };
 
+/// `control:` -- control ticks, the servo of servo stages, the summary.
+struct ControlSpec {
+  std::int64_t interval = 1;               ///< DEM steps per control tick (= dem_node publish_every)
+  protocol::ServoSettings servo;           ///< strategy, gain, max_dimensionless_rate
+  double quasi_static_threshold = 1e-3;    ///< I_QS of the shear summary
+};
+
 struct SceneConfig {
   std::string source_path;             ///< the YAML file (for relative paths)
   dem::Material material;
@@ -68,6 +76,10 @@ struct SceneConfig {
   dem::StabilityLimits stability;
   std::vector<StageSpec> stages;
   OutputSpec output;
+  ControlSpec control;
+
+  /// The StageRunner options this scene asks for.
+  protocol::RunOptions run_options() const;
 };
 
 }  // namespace vt::io

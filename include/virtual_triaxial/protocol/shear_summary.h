@@ -23,6 +23,7 @@ struct ShearSummary {
   double p_end = 0, q_end = 0;  ///< [Pa]
   double mean_moment_index_to_peak = 0;
   bool quasi_static = false;
+  double quasi_static_threshold = 1e-3;  ///< I_QS used for the verdict
   std::int64_t samples = 0;
 };
 

@@ -1,34 +1,46 @@
 // Runs a sequence of test stages on a Simulation (ROS-free; the headless
 // triax_run and the ROS protocol node share it).
 //
-// Boundary control per stage (compression positive rates in, mechanics
-// convention inside the cell):
-//   isotropic_compression  every axis at -eps_dot;
-//   undrained_shear        axial axis at -eps_dot, lateral axes at
-//                          (1/sqrt(1 - eps_dot dt) - 1)/dt, which keeps the
-//                          cell volume constant step by step to round-off
-//                          (plain -eps_a_dot/2 drifts at O(eps_dot^2 dt^2));
-//   relax                  no boundary motion.
+// The run is cut into control ticks of RunOptions::control_interval DEM
+// steps, exactly like dem_node's ticks (publish_every), so a protocol run
+// headless and through the ROS rig takes the same decisions on the same
+// ticks. Per tick:
+//   1. the boundary of the stage (stage_spec.h: stage_boundary) gives each
+//      axis an open-loop log-strain rate r or servo control; servo axes use
+//      the rate the servo returned after the previous tick (0 on the first
+//      tick of a stage, like a controller that answers from the next tick);
+//   2. the cell's velocity gradient is l_i = expm1(-r_i dt) / dt (extension
+//      positive), so every step scales L_i by exp(-r_i dt) and changes the
+//      log strain by exactly r_i dt (undrained: volume constant to round-off);
+//   3. control_interval DEM steps; the last one is measured when the tick
+//      ends on a sample, runs a servo or the ticks are longer than one step;
+//   4. servo update (control::ServoStrategy) from the tick-end stress and
+//      axis stiffness, dt = control period = control_interval * dt;
+//   5. stop criteria (stage_monitor.h).
 // The cell's strain reference is reset at the start of every stage, so
-// strains in the samples are measured from the stage start.
-// Stop criteria are checked after every step (mean stress, axial strain,
-// step count) or at every sample (UFR). A stage without a `steps` criterion
-// is capped at RunOptions::max_steps_per_stage and the run ends with the
-// verdict `step_limit`. Numerical failure ends the run with `unstable`.
+// strains in the samples are measured from the stage start. A stage without
+// a `steps` criterion is capped at RunOptions::max_steps_per_stage and the
+// run ends with the verdict `step_limit`. Numerical failure ends the run with
+// `unstable`; abort() (from another thread or an observer) ends it with
+// `aborted` at the next tick.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "virtual_triaxial/control/servo_strategy.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/protocol/shear_summary.h"
+#include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_spec.h"
 
 namespace vt::protocol {
 
-enum class Verdict { Completed, Unstable, StepLimit };
+enum class Verdict { Completed, Unstable, StepLimit, Aborted };
 const char* to_string(Verdict v);
 
 struct StageOutcome {
@@ -38,7 +50,16 @@ struct StageOutcome {
   std::string stop_reason;
 };
 
+/// The servo of servo-controlled stages (consolidation, drained shear).
+struct ServoSettings {
+  std::string strategy = "proportional";   ///< control::make_servo name
+  control::ServoParameters parameters;     ///< max_strain_rate is set from max_dimensionless_rate / T0
+  double max_dimensionless_rate = 1e-4;    ///< cap on |eps'| of the servo rates
+};
+
 struct RunOptions {
+  std::int64_t control_interval = 1;       ///< DEM steps per control tick (dem_node publish_every)
+  ServoSettings servo;
   std::int64_t sample_interval = 100;      ///< steps between recorded samples
   double progress_seconds = 2.0;           ///< wall seconds between progress lines
   std::int64_t max_steps_per_stage = 50'000'000;
@@ -51,8 +72,9 @@ struct RunReport {
   std::string failure;                     ///< reason when not completed
   std::vector<StageOutcome> stages;
   std::int64_t steps = 0;
+  std::int64_t ticks = 0;
   double wall_seconds = 0;
-  ShearSummary shear;                      ///< of the last undrained_shear stage
+  ShearSummary shear;                      ///< of the last shear stage (drained or undrained)
   std::optional<dem::SimulationState> last_good;
 };
 
@@ -69,18 +91,22 @@ class RunObserver {
 class StageRunner {
  public:
   StageRunner(dem::Simulation& sim, const RunOptions& options) : sim_(sim), options_(options) {}
+  /// Throws std::invalid_argument naming the option when RunOptions are bad.
   RunReport run(const std::vector<StageSpec>& stages, RunObserver& observer);
+  /// Ends the run at the next tick with the verdict `aborted` (thread-safe).
+  void abort() { abort_ = true; }
 
  private:
-  /// Returns false when the run must end (instability or step limit).
+  /// Returns false when the run must end (instability, step limit, abort).
   bool run_stage(const StageSpec& stage, RunObserver& observer, RunReport& report);
-  void apply_rates(const StageSpec& stage);
-  std::string stop_reason(const StageSpec& stage, std::int64_t k, const dem::Measures* sample) const;
   std::string progress_line(const StageSpec& stage, std::int64_t k, const dem::Measures& m, double rate) const;
 
   dem::Simulation& sim_;
   RunOptions options_;
-  double axial_start_ = 0;  ///< cell edge length at the stage start
+  std::atomic<bool> abort_{false};
 };
+
+/// Checks RunOptions; "" or "<option>: <reason>".
+std::string validate(const RunOptions& o);
 
 }  // namespace vt::protocol

@@ -38,6 +38,8 @@ class AxisArbiter {
   double max_dimensionless_rate() const { return max_dimensionless_rate_; }
 
   /// All-or-nothing claim at control tick `tick` (the last published tick).
+  /// Empty `axes` registers `owner` as a lockstep participant without axes
+  /// (it must answer every later tick; release with empty axes ends that).
   std::string claim(const std::string& owner, const std::vector<int>& axes, std::uint64_t tick);
   /// Empty `axes`: every axis of `owner`.
   std::string release(const std::string& owner, const std::vector<int>& axes);

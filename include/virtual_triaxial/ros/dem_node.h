@@ -24,6 +24,8 @@
 //   resume, step, load_sample, save_sample, set_damping, set_friction,
 //   reset_strain (std_srvs/Trigger: strain reference := current cell).
 //   Refusals name the request field; the node keeps running unchanged.
+// Live tuning: dynamic_reconfigure ~set_parameters (damping_model,
+//   damping_ratio), applied between control ticks (ros/dem_reconfigure.h).
 //
 // Control tick k: apply the current rates (open-loop rates, and for owned
 // axes the owner's last command) for publish_every DEM steps, measuring on
@@ -68,6 +70,7 @@
 #include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/ros/axis_arbiter.h"
 #include "virtual_triaxial/ros/dem_diagnostics.h"
+#include "virtual_triaxial/ros/dem_reconfigure.h"
 #include "virtual_triaxial/ros/specimen_loader.h"
 
 namespace vt::ros {
@@ -130,6 +133,7 @@ class DemNode {
   ::ros::Publisher stress_pub_, strain_pub_, moment_pub_, energy_pub_, fabric_pub_, clock_pub_, diag_pub_;
   ::ros::Subscriber command_sub_;
   std::vector<::ros::ServiceServer> services_;
+  std::unique_ptr<DemReconfigure> reconfigure_;  ///< live tuning; on pnh_ (queue_)
 };
 
 }  // namespace vt::ros

@@ -40,4 +40,13 @@ virtual_triaxial::MomentIndex to_moment_index_msg(const dem::Measures& m, const 
 virtual_triaxial::KineticEnergy to_kinetic_energy_msg(const dem::Measures& m, const TickStamp& s);
 virtual_triaxial::Fabric to_fabric_msg(const dem::Measures& m, const TickStamp& s);
 
+/// The inverse: the Measures of one tick from its five messages (for the
+/// protocol node's results file). Fields the messages do not carry (volume,
+/// max overlap) stay 0; the energy references are chosen so that
+/// energy.balance_error() equals the message's balance_error.
+dem::Measures measures_from_messages(const virtual_triaxial::Stress& stress, const virtual_triaxial::Strain& strain,
+                                     const virtual_triaxial::MomentIndex& moment,
+                                     const virtual_triaxial::KineticEnergy& energy,
+                                     const virtual_triaxial::Fabric& fabric, std::int64_t step);
+
 }  // namespace vt::ros

@@ -3,8 +3,14 @@
 //
 // Parameters (private, `~`):
 //   target            (required) stress target of every controlled axis [Pa], >= 0
-//   strategy          "proportional"  control::make_servo name
+//   strategy          "proportional"  control::make_servo name: "proportional"
+//                             (proportional_servo.h) or "pid" (pid_servo.h)
 //   gain              0.5     dimensionless servo gain g (see proportional_servo.h)
+//   ki                0       dimensionless integral gain, [0, 1]   } "pid" only
+//   kd                0       dimensionless derivative gain, [0, 0.2] } (pid_servo.h)
+//   max_rate_change   0       rate limit, DIMENSIONLESS like max_dimensionless_rate:
+//                             cap on |rate_n - rate_{n-1}| T0 per control update
+//                             (0 = off; "pid" only); the strategy gets it / T0
 //   max_dimensionless_rate 1e-4  cap on |eps'| = |rate| T0 of the commands
 //                             (T0 from dem_node's get_info); must not exceed
 //                             dem_node's own ~max_dimensionless_rate
@@ -33,8 +39,24 @@
 // Services, in the node's PRIVATE namespace (e.g. /servo/enable) so several
 // controllers can share a rig: set_confining_pressure (target for every
 // controlled axis, ramp in simulation seconds), set_axis_targets (per-axis
-// targets, ramp), enable (claim + start), disable (stop + release_axes).
+// targets, ramp), set_axes (change the controlled axes: release, then claim
+// the new set when enabled), enable (claim + start), disable (stop +
+// release_axes).
 // Refusals name the field.
+//
+// Live tuning (dynamic_reconfigure, cfg/Servo.cfg), in the private namespace:
+// service ~set_parameters, topics ~parameter_updates / ~parameter_descriptions.
+// gain, ki, kd, max_dimensionless_rate, max_rate_change (same meaning as the
+// parameters above; the server starts from the node's parameter values). A
+// change is applied between two control updates (the node is single-threaded:
+// ros::spin) from the next Stress message on, without resetting the
+// strategy's state (the PID integral term is in Pa, so a ki change does not
+// jump). An invalid value (out of range, NaN, max_dimensionless_rate above
+// dem_node's) is refused with a ROS_WARN naming the field and the old value is
+// kept; the reply and ~parameter_updates (recorded by rosbag) carry the values
+// in force; every accepted change is logged with ROS_INFO. dynamic_reconfigure
+// mirrors the values in force to the private parameters (~gain, ...), so a
+// restarted node on the same master starts with the tuned values.
 // No ROS time is used (only WallTimer and message stamps), so use_sim_time
 // is harmless.
 #pragma once
@@ -44,11 +66,15 @@
 #include <string>
 #include <vector>
 
+#include <boost/thread/recursive_mutex.hpp>
+#include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include "virtual_triaxial/ServoConfig.h"
 #include "virtual_triaxial/SetAxisTargets.h"
 #include "virtual_triaxial/SetConfiningPressure.h"
+#include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/Stress.h"
 #include "virtual_triaxial/control/servo_strategy.h"
 #include "virtual_triaxial/ros/target_ramp.h"
@@ -61,6 +87,12 @@ class ServoControllerNode {
 
  private:
   void read_parameters();
+  /// The strategy's parameters for dem_node's time scale T0 [s] (the
+  /// dimensionless settings below, rates divided by T0).
+  control::ServoParameters tuning(double t0) const;
+  /// The settings as a dynamic_reconfigure config.
+  virtual_triaxial::ServoConfig current_config() const;
+  void on_reconfigure(virtual_triaxial::ServoConfig& config, std::uint32_t level);
   /// get_info + claim_axes; "" on success, else why not (yet).
   std::string try_claim();
   /// release_axes; "" on success.
@@ -71,14 +103,20 @@ class ServoControllerNode {
                                  virtual_triaxial::SetConfiningPressure::Response& rs);
   bool on_set_axis_targets(virtual_triaxial::SetAxisTargets::Request& rq,
                            virtual_triaxial::SetAxisTargets::Response& rs);
+  bool on_set_axes(virtual_triaxial::SetServoAxes::Request& rq, virtual_triaxial::SetServoAxes::Response& rs);
   bool on_enable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
   bool on_disable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
   bool controls(int axis) const { return mask_[axis]; }
 
   ::ros::NodeHandle nh_, pnh_;
   std::string strategy_name_, owner_;
-  control::ServoParameters params_;
+  control::ServoParameters params_;  ///< in force (rates in 1/s once T0 is known)
+  // dimensionless settings (parameters / live tuning)
+  double gain_ = 0.5, ki_ = 0.0, kd_ = 0.0;
   double max_dimensionless_rate_ = 1e-4;
+  double max_rate_change_ = 0.0;  ///< |delta rate| T0 per update
+  double t0_ = 0.0;               ///< dem_node's T0 [s]; 0 until get_info answered
+  double dem_max_dimensionless_rate_ = 0.0;  ///< dem_node's limit; 0 until known
   std::vector<int> axes_;
   control::AxisMask mask_{false, false, false};
   std::unique_ptr<control::ServoStrategy> strategy_;
@@ -95,6 +133,8 @@ class ServoControllerNode {
   ::ros::ServiceClient info_client_, claim_client_, release_client_;
   std::vector<::ros::ServiceServer> services_;
   ::ros::WallTimer retry_timer_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<virtual_triaxial::ServoConfig>> reconfigure_;
 };
 
 }  // namespace vt::ros

@@ -1,0 +1,77 @@
+// One test run by test_protocol_node on the rig: the ROS calls that set up
+// each stage on a paused dem_node and the per-tick loop that feeds the
+// ROS-free stop criteria (protocol/stage_monitor.h) and shear summary. See
+// test_protocol_node.h for the protocol of pausing and lockstep.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <ros/ros.h>
+
+#include "virtual_triaxial/ProtocolStatus.h"
+#include "virtual_triaxial/RunTestAction.h"
+#include "virtual_triaxial/io/results_recorder.h"
+#include "virtual_triaxial/io/run_summary_json.h"
+#include "virtual_triaxial/io/scene_config.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
+#include "virtual_triaxial/ros/tick_collector.h"
+
+namespace vt::ros {
+
+/// A refused request or a rig that does not answer; what() names the field
+/// or the service.
+class RigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// How the session talks to its node.
+struct SessionLinks {
+  std::function<std::optional<TickMessages>(std::uint64_t)> wait_tick;  ///< nullopt: none in time
+  std::function<const char*()> stop_request;   ///< nullptr, "aborted" or "preempted"
+  std::function<void(std::uint64_t)> answer;   ///< empty cell_command for a tick
+  std::function<void(const virtual_triaxial::RunTestFeedback&)> feedback;
+  std::function<void(const virtual_triaxial::ProtocolStatus&)> status;
+};
+
+class ProtocolSession {
+ public:
+  ProtocolSession(const ::ros::NodeHandle& nh, std::string servo, std::string owner, double rig_timeout);
+
+  /// Runs every stage of `scene` (loaded from `protocol_path`) on the rig.
+  /// Throws RigError when the rig refuses or does not answer during set-up;
+  /// failures during the run end up in the report's verdict.
+  protocol::RunReport run(const io::SceneConfig& scene, const std::string& protocol_path,
+                          io::ResultsRecorder& recorder, SessionLinks& links);
+  /// Specimen facts for the summary (valid after run()).
+  const io::RunContext& context() const { return ctx_; }
+  /// Verdict word for the action result ("preempted" is not a RunReport verdict).
+  const std::string& verdict_word() const { return verdict_word_; }
+
+ private:
+  template <class Srv>
+  void call(const std::string& name, Srv& srv);
+  void trigger(const std::string& name);
+  std::uint64_t current_tick();
+  void configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b);
+  /// false when the run must end (report updated)
+  bool run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count, io::ResultsRecorder& recorder,
+                 SessionLinks& links, protocol::RunReport& report);
+  void finish_rig();
+
+  ::ros::NodeHandle nh_;
+  std::string servo_, owner_;
+  double rig_timeout_;
+  const io::SceneConfig* scene_ = nullptr;
+  io::RunContext ctx_;
+  std::uint32_t publish_every_ = 1;
+  std::uint64_t tick_ = 0;  ///< last tick answered (or the tick the rig paused at)
+  std::string verdict_word_ = "completed";
+  std::string protocol_name_;
+};
+
+}  // namespace vt::ros

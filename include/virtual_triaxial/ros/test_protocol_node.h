@@ -1,0 +1,91 @@
+// test_protocol_node: the test operator of the virtual rig (DESIGN §6). Runs a
+// YAML protocol (config/protocols/, the scene format of config/scenes/README.md)
+// on dem_node + a servo controller, the way an operator drives a physical
+// triaxial machine; a thin adapter over the ROS-free protocol library
+// (protocol/stage_spec.h: stage boundaries, protocol/stage_monitor.h: stop
+// criteria, protocol/shear_summary.h), so it takes the same decisions on the
+// same ticks as the headless `triax_run` on the same file.
+//
+// Parameters (private, `~`):
+//   output_dir    "protocol_output"  default folder for results.h5 / summary.json
+//                 (relative to the working directory, ROS_HOME under roslaunch)
+//   servo         "servo"   name of the servo controller node (its private
+//                           services servo/set_axes, enable, disable,
+//                           set_confining_pressure)
+//   tick_timeout  30.0      wall seconds to wait for the state of the next tick
+//                           before asking dem_node whether it failed
+//   rig_timeout   20.0      wall seconds to wait for dem_node / servo services
+//
+// Interface (relative to the rig's namespace):
+//   action  run_test (virtual_triaxial/RunTest): goal = protocol file or YAML
+//           text; feedback = stage, eps_a, q, p, e, I_mom (throttled to
+//           ~4 Hz); result = the test summary. Cancelling the goal preempts
+//           the test: it stops at the next tick, the summary says "preempted".
+//   service ~abort (std_srvs/Trigger): ends the running test at the next tick
+//           with the verdict "aborted".
+//   topic   protocol_status (virtual_triaxial/ProtocolStatus) on sample ticks
+//           and at every change of state.
+//
+// Lockstep: at the start of a test the node registers with dem_node as a
+// lockstep participant without axes (claim_axes with no axes), so dem_node
+// waits for its (empty) cell_command every tick. When a stage ends on tick k
+// it calls `pause` BEFORE answering tick k, so dem_node halts exactly after
+// tick k whatever the machine load; it then reconfigures the rig (reset_strain,
+// set_strain_rate on the open-loop axes, servo set_axes / enable / disable /
+// set_confining_pressure) and resumes. A test therefore is deterministic.
+//
+// Per test: pause, load_sample(protocol file) (dem_node builds the specimen
+// exactly as triax_run would), then the stages; the summary (phi_peak,
+// eps_peak, phi_end, e0, mean I_mom to the peak, quasi-static verdict against
+// control.quasi_static_threshold, runtime, steps, ticks) goes to
+// <output_dir>/results.h5 (time series of the sample ticks + attributes), to
+// <output_dir>/summary.json and into the action result. The rig is left
+// paused with every axis open loop at rate 0.
+// Bad goals (no or two protocols, a protocol that fails validation, a
+// control.interval that differs from dem_node's publish_every) are refused
+// with the field named; the node keeps serving.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+
+#include <actionlib/server/simple_action_server.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+
+#include "virtual_triaxial/RunTestAction.h"
+#include "virtual_triaxial/io/scene_config.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
+#include "virtual_triaxial/ros/tick_collector.h"
+#include <optional>
+
+namespace vt::ros {
+
+class TestProtocolNode {
+ public:
+  TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh);
+
+ private:
+  void execute(const virtual_triaxial::RunTestGoalConstPtr& goal);
+  /// The state of `tick`, or nullopt after tick_timeout (or when stopped).
+  std::optional<TickMessages> wait_tick(std::uint64_t tick);
+  bool on_abort(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+
+  ::ros::NodeHandle nh_, pnh_;
+  ::ros::NodeHandle tick_nh_;         ///< nh_ on tick_queue_ (state subscriptions)
+  ::ros::CallbackQueue tick_queue_;   ///< spun by the executing test only
+  std::string output_dir_, servo_;
+  double tick_timeout_ = 30.0, rig_timeout_ = 20.0;
+  TickCollector ticks_;
+  std::atomic<bool> abort_{false};
+  std::atomic<bool> running_{false};
+
+  actionlib::SimpleActionServer<virtual_triaxial::RunTestAction> server_;
+  ::ros::Publisher status_pub_, command_pub_;
+  ::ros::Subscriber stress_sub_, strain_sub_, moment_sub_, energy_sub_, fabric_sub_;
+  ::ros::ServiceServer abort_srv_;
+};
+
+}  // namespace vt::ros

@@ -1,0 +1,280 @@
+// ProtocolSession: one test on the rig. See protocol_session.h.
+#include "virtual_triaxial/ros/protocol_session.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include <std_srvs/Trigger.h>
+
+#include "virtual_triaxial/ClaimAxes.h"
+#include "virtual_triaxial/GetInfo.h"
+#include "virtual_triaxial/LoadSample.h"
+#include "virtual_triaxial/ReleaseAxes.h"
+#include "virtual_triaxial/SetConfiningPressure.h"
+#include "virtual_triaxial/SetServoAxes.h"
+#include "virtual_triaxial/SetStrainRate.h"
+#include "virtual_triaxial/protocol/shear_summary.h"
+#include "virtual_triaxial/protocol/stage_monitor.h"
+#include "virtual_triaxial/ros/measure_messages.h"
+
+namespace vt::ros {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+ProtocolSession::ProtocolSession(const ::ros::NodeHandle& nh, std::string servo, std::string owner,
+                                 double rig_timeout)
+    : nh_(nh), servo_(std::move(servo)), owner_(std::move(owner)), rig_timeout_(rig_timeout) {}
+
+template <class Srv>
+void ProtocolSession::call(const std::string& name, Srv& srv) {
+  ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
+  if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
+    throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
+  if (!c.call(srv)) throw RigError(name + ": call failed");
+  if constexpr (std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
+    return;
+  } else {
+    if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);
+  }
+}
+
+void ProtocolSession::trigger(const std::string& name) {
+  std_srvs::Trigger t;
+  call(name, t);
+}
+
+std::uint64_t ProtocolSession::current_tick() {
+  virtual_triaxial::GetInfo info;
+  call("get_info", info);
+  return info.response.tick;
+}
+
+void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b) {
+  trigger("reset_strain");
+  if (!b.any_servo()) {
+    trigger(servo_ + "/disable");
+  } else {
+    trigger(servo_ + "/disable");
+    virtual_triaxial::SetServoAxes axes;
+    for (int a : b.servo_axes()) axes.request.axes.push_back(static_cast<std::uint8_t>(a));
+    call(servo_ + "/set_axes", axes);
+    virtual_triaxial::SetConfiningPressure cp;
+    cp.request.target = st.confining_pressure.value_or(0.0);
+    cp.request.ramp_seconds = 0.0;
+    call(servo_ + "/set_confining_pressure", cp);
+    trigger(servo_ + "/enable");
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (b.servo[a]) continue;
+    virtual_triaxial::SetStrainRate r;
+    r.request.axis = static_cast<std::uint8_t>(a);
+    r.request.strain_rate = b.open_rate[a];
+    r.request.dimensionless = false;
+    call("set_strain_rate", r);
+  }
+}
+
+protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std::string& protocol_path,
+                                         io::ResultsRecorder& recorder, SessionLinks& links) {
+  scene_ = &scene;
+  protocol_name_ = std::filesystem::path(protocol_path).stem().string();
+  const auto t_start = Clock::now();
+  virtual_triaxial::GetInfo info;
+  call("get_info", info);
+  if (static_cast<std::int64_t>(info.response.publish_every) != scene.control.interval)
+    throw RigError("control.interval: the protocol asks for " + std::to_string(scene.control.interval) +
+                   " DEM steps per control tick but dem_node runs publish_every = " +
+                   std::to_string(info.response.publish_every) + " (start dem_node with ~publish_every " +
+                   std::to_string(scene.control.interval) + ")");
+  if (!info.response.lockstep)
+    ROS_WARN("test_protocol_node: dem_node is free-running: stage changes are not tick-exact");
+  publish_every_ = info.response.publish_every;
+  trigger("pause");
+  virtual_triaxial::LoadSample load;
+  load.request.path = protocol_path;
+  call("load_sample", load);
+  call("get_info", info);
+  ctx_.particles = info.response.particles;
+  ctx_.t0 = info.response.t0;
+  ctx_.dt = info.response.dt;
+  ctx_.l0 = info.response.l0;
+  virtual_triaxial::ClaimAxes claim;  // lockstep participant, no axes
+  claim.request.owner = owner_;
+  call("claim_axes", claim);
+  tick_ = claim.response.tick;
+
+  protocol::RunReport report;
+  verdict_word_ = "completed";
+  for (std::size_t i = 0; i < scene.stages.size(); ++i)
+    if (!run_stage(scene.stages[i], i, scene.stages.size(), recorder, links, report)) break;
+  finish_rig();
+  report.wall_seconds = seconds_since(t_start);
+  return report;
+}
+
+void ProtocolSession::finish_rig() {
+  try {
+    trigger(servo_ + "/disable");
+    for (int a = 0; a < 3; ++a) {
+      virtual_triaxial::SetStrainRate r;
+      r.request.axis = static_cast<std::uint8_t>(a);
+      r.request.strain_rate = 0.0;
+      call("set_strain_rate", r);
+    }
+    virtual_triaxial::ReleaseAxes rel;
+    rel.request.owner = owner_;
+    call("release_axes", rel);
+  } catch (const RigError& e) {
+    ROS_WARN("test_protocol_node: leaving the rig: %s", e.what());
+  }
+}
+
+bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count,
+                                io::ResultsRecorder& recorder, SessionLinks& links, protocol::RunReport& report) {
+  const io::SceneConfig& scene = *scene_;
+  const protocol::StageBoundary b = protocol::stage_boundary(st, ctx_.t0);
+  configure_stage(st, b);
+  const std::uint64_t start = current_tick();
+  tick_ = start;
+  protocol::StageMonitor monitor(st, b);
+  protocol::ShearSummaryBuilder shear(st.axial_axis, scene.control.quasi_static_threshold);
+  protocol::StageOutcome out;
+  out.name = st.name;
+  out.type = st.type;
+  const std::int64_t n = publish_every_;
+  const std::int64_t cap = st.stop.steps ? *st.stop.steps : protocol::RunOptions{}.max_steps_per_stage;
+  ROS_INFO("test_protocol_node: [%s] start: %s (stage %zu of %zu)", st.name.c_str(), protocol::to_string(st.type),
+           index + 1, count);
+
+  virtual_triaxial::ProtocolStatus status;
+  status.protocol = protocol_name_;
+  status.stage = st.name;
+  status.stage_index = static_cast<std::uint32_t>(index);
+  status.stage_count = static_cast<std::uint32_t>(count);
+  status.state = "running";
+  links.status(status);
+
+  trigger("resume");
+  auto t_feedback = Clock::now() - std::chrono::seconds(1);
+  auto t_progress = Clock::now();
+  std::uint64_t tick_progress = start;
+  bool ok = true;
+  while (true) {
+    const std::uint64_t want = tick_ + 1;
+    std::optional<TickMessages> msgs = links.wait_tick(want);
+    if (!msgs) {
+      virtual_triaxial::GetInfo info;
+      call("get_info", info);
+      ok = false;
+      if (info.response.unstable) {
+        report.verdict = protocol::Verdict::Unstable;
+        report.failure = info.response.failure;
+        out.stop_reason = "unstable: " + info.response.failure;
+        verdict_word_ = "unstable";
+      } else {
+        report.verdict = protocol::Verdict::Aborted;
+        report.failure = "no state for tick " + std::to_string(want) + " from dem_node in time";
+        out.stop_reason = report.failure;
+        verdict_word_ = links.stop_request() ? links.stop_request() : "failed";
+      }
+      break;
+    }
+    tick_ = want;
+    const std::int64_t steps = static_cast<std::int64_t>(tick_ - start) * n;
+    const TickMessages& m = *msgs;
+    const bool sample = protocol::is_sample_tick(steps, n, scene.output.interval);
+    protocol::TickSample ts;
+    ts.stage_steps = steps;
+    ts.eps_a = m.strain->strain[static_cast<std::size_t>(st.axial_axis)];
+    ts.p = m.stress->p;
+    ts.q = m.stress->q;
+    for (int i = 0; i < 3; ++i) ts.stress[i] = m.stress->stress[static_cast<std::size_t>(4 * i)];
+    dem::Measures measures;
+    if (sample) {
+      ts.ufr = m.moment->ufr;
+      ts.contacts = static_cast<std::int64_t>(m.fabric->contacts);
+    }
+    std::string why = monitor.check(ts);
+    const char* stop = links.stop_request();
+    if (why.empty() && steps >= cap && !stop) {
+      ok = false;
+      report.verdict = protocol::Verdict::StepLimit;
+      report.failure = "stage '" + st.name + "' reached the step limit " + std::to_string(cap) +
+                       " before any stop criterion";
+      why = "step limit";
+      verdict_word_ = "step_limit";
+    }
+    if (stop) {
+      ok = false;
+      report.verdict = protocol::Verdict::Aborted;
+      report.failure = std::string(stop) + " during stage '" + st.name + "'";
+      why = stop;
+      verdict_word_ = stop;
+    }
+    const bool last = !why.empty();
+    if (sample || last) {
+      measures = measures_from_messages(*m.stress, *m.strain, *m.moment, *m.energy, *m.fabric, steps);
+      recorder.on_sample(st, measures);
+      if (protocol::is_shear(st.type)) shear.add(measures);
+    }
+    if (last) trigger("pause");  // before answering: dem_node halts right after this tick
+    links.answer(tick_);
+    ++report.ticks;
+
+    status.header = m.stress->header;
+    status.tick = tick_;
+    status.eps_a = ts.eps_a;
+    status.eps_v = m.strain->volumetric;
+    status.p = ts.p;
+    status.q = ts.q;
+    status.e = m.fabric->void_ratio;
+    status.moment_index = m.moment->moment_index;
+    if (sample || last) {
+      if (last) status.message = why;
+      links.status(status);
+    }
+    if (last || seconds_since(t_feedback) >= 0.25) {
+      virtual_triaxial::RunTestFeedback fb;
+      fb.stage = st.name;
+      fb.stage_index = static_cast<std::uint32_t>(index);
+      fb.tick = tick_;
+      fb.time = m.stress->time;
+      fb.eps_a = ts.eps_a;
+      fb.q = ts.q;
+      fb.p = ts.p;
+      fb.e = status.e;
+      fb.moment_index = status.moment_index;
+      links.feedback(fb);
+      t_feedback = Clock::now();
+    }
+    if (seconds_since(t_progress) >= scene.output.progress_seconds) {
+      const double rate = static_cast<double>((tick_ - tick_progress) * n) / seconds_since(t_progress);
+      ROS_INFO("test_protocol_node: [%s] tick %llu  eps_a %.3f%%  eps_v %.3f%%  p %.1f kPa  q %.1f kPa  e %.4f  "
+               "I_mom %.2e  (%.0f steps/s)",
+               st.name.c_str(), static_cast<unsigned long long>(tick_), 100 * ts.eps_a, 100 * status.eps_v,
+               ts.p / 1e3, ts.q / 1e3, status.e, status.moment_index, rate);
+      t_progress = Clock::now();
+      tick_progress = tick_;
+    }
+    if (last) {
+      out.stop_reason = why;
+      break;
+    }
+  }
+  out.steps = static_cast<std::int64_t>(tick_ - start) * n;
+  report.steps += out.steps;
+  report.stages.push_back(out);
+  if (protocol::is_shear(st.type)) report.shear = shear.summary();
+  ROS_INFO("test_protocol_node: [%s] done after %lld steps: %s", st.name.c_str(), static_cast<long long>(out.steps),
+           out.stop_reason.c_str());
+  status.state = ok ? "running" : verdict_word_;
+  status.message = out.stop_reason;
+  links.status(status);
+  return ok;
+}
+
+}  // namespace vt::ros

@@ -1,0 +1,183 @@
+// TestProtocolNode: action plumbing around ProtocolSession. See test_protocol_node.h.
+#include "virtual_triaxial/ros/test_protocol_node.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "virtual_triaxial/CellCommand.h"
+#include "virtual_triaxial/ProtocolStatus.h"
+#include "virtual_triaxial/io/scene_error.h"
+#include "virtual_triaxial/io/scene_parser.h"
+#include "virtual_triaxial/ros/parameters.h"
+#include "virtual_triaxial/ros/protocol_session.h"
+
+namespace vt::ros {
+
+namespace fs = std::filesystem;
+
+TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh)
+    : nh_(nh),
+      pnh_(pnh),
+      tick_nh_(nh),
+      server_(nh_, "run_test", [this](const virtual_triaxial::RunTestGoalConstPtr& g) { execute(g); }, false) {
+  pnh_.param<std::string>("output_dir", output_dir_, "protocol_output");
+  pnh_.param<std::string>("servo", servo_, "servo");
+  tick_timeout_ = optional_double(pnh_, "tick_timeout").value_or(30.0);
+  rig_timeout_ = optional_double(pnh_, "rig_timeout").value_or(20.0);
+  if (!(tick_timeout_ > 0)) throw std::invalid_argument("~tick_timeout: must be > 0 s");
+  if (!(rig_timeout_ > 0)) throw std::invalid_argument("~rig_timeout: must be > 0 s");
+  if (servo_.empty()) throw std::invalid_argument("~servo: must name the servo controller node");
+
+  tick_nh_.setCallbackQueue(&tick_queue_);
+  const auto hints = ::ros::TransportHints().tcpNoDelay();
+  stress_sub_ = tick_nh_.subscribe<virtual_triaxial::Stress>(
+      "stress", 200, [this](const virtual_triaxial::Stress::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+  strain_sub_ = tick_nh_.subscribe<virtual_triaxial::Strain>(
+      "strain", 200, [this](const virtual_triaxial::Strain::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+  moment_sub_ = tick_nh_.subscribe<virtual_triaxial::MomentIndex>(
+      "moment_index", 200, [this](const virtual_triaxial::MomentIndex::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+  energy_sub_ = tick_nh_.subscribe<virtual_triaxial::KineticEnergy>(
+      "kinetic_energy", 200, [this](const virtual_triaxial::KineticEnergy::ConstPtr& m) { ticks_.add(*m); }, {},
+      hints);
+  fabric_sub_ = tick_nh_.subscribe<virtual_triaxial::Fabric>(
+      "fabric", 200, [this](const virtual_triaxial::Fabric::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 100);
+  status_pub_ = nh_.advertise<virtual_triaxial::ProtocolStatus>("protocol_status", 100, true);
+  abort_srv_ = pnh_.advertiseService("abort", &TestProtocolNode::on_abort, this);
+  virtual_triaxial::ProtocolStatus idle;
+  idle.state = "idle";
+  status_pub_.publish(idle);
+  server_.start();
+  ROS_INFO("test_protocol_node: ready (action %s, output %s)", nh_.resolveName("run_test").c_str(),
+           output_dir_.c_str());
+}
+
+bool TestProtocolNode::on_abort(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  if (!running_) {
+    rs.success = false;
+    rs.message = "no test is running";
+    return true;
+  }
+  abort_ = true;
+  rs.success = true;
+  rs.message = "the test stops at the next control tick";
+  return true;
+}
+
+std::optional<TickMessages> TestProtocolNode::wait_tick(std::uint64_t tick) {
+  const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(tick_timeout_);
+  while (::ros::ok()) {
+    if (auto m = ticks_.take(tick)) return m;
+    if (::ros::WallTime::now() >= deadline) return std::nullopt;
+    tick_queue_.callAvailable(::ros::WallDuration(0.005));
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+/// The protocol file of a goal; writes inline YAML to <dir>/protocol.yaml.
+std::string protocol_path(const virtual_triaxial::RunTestGoal& g, const fs::path& dir) {
+  const bool file = !g.protocol_file.empty(), text = !g.protocol_yaml.empty();
+  if (file == text)
+    throw io::SceneError("goal", "give exactly one of protocol_file and protocol_yaml");
+  if (file) return fs::absolute(g.protocol_file).string();
+  const fs::path p = dir / "protocol.yaml";
+  std::ofstream out(p);
+  out << g.protocol_yaml;
+  if (!out) throw io::SceneError("output_dir", "cannot write " + p.string());
+  return p.string();
+}
+
+}  // namespace
+
+void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal) {
+  running_ = true;
+  abort_ = false;
+  virtual_triaxial::RunTestResult result;
+  const fs::path dir = fs::absolute(goal->output_dir.empty() ? output_dir_ : goal->output_dir);
+  result.results_file = (dir / "results.h5").string();
+  result.summary_file = (dir / "summary.json").string();
+  auto refuse = [&](const std::string& verdict, const std::string& why) {
+    result.verdict = verdict;
+    result.message = why;
+    ROS_ERROR("test_protocol_node: %s: %s", verdict.c_str(), why.c_str());
+    virtual_triaxial::ProtocolStatus st;
+    st.state = verdict;
+    st.message = why;
+    status_pub_.publish(st);
+    server_.setAborted(result, why);
+    running_ = false;
+  };
+  io::SceneConfig scene;
+  std::string path;
+  try {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw io::SceneError("output_dir", "cannot create " + dir.string() + ": " + ec.message());
+    path = protocol_path(*goal, dir);
+    scene = io::load_scene(path);
+  } catch (const io::SceneError& e) {
+    return refuse("failed", std::string("protocol: ") + e.what());
+  }
+  ticks_.clear();
+  tick_queue_.clear();
+  ProtocolSession session(nh_, servo_, ::ros::this_node::getName(), rig_timeout_);
+  SessionLinks links;
+  links.wait_tick = [this](std::uint64_t t) { return wait_tick(t); };
+  links.stop_request = [this]() -> const char* {
+    if (server_.isPreemptRequested()) return "preempted";
+    if (abort_) return "aborted";
+    return nullptr;
+  };
+  links.answer = [this](std::uint64_t t) {
+    virtual_triaxial::CellCommand c;
+    c.tick = t;
+    c.owner = ::ros::this_node::getName();
+    command_pub_.publish(c);
+  };
+  links.feedback = [this](const virtual_triaxial::RunTestFeedback& f) { server_.publishFeedback(f); };
+  links.status = [this](const virtual_triaxial::ProtocolStatus& s) { status_pub_.publish(s); };
+  protocol::RunReport report;
+  try {
+    io::ResultsRecorder recorder(result.results_file, true);
+    report = session.run(scene, path, recorder, links);
+    recorder.finish(report, session.context());
+  } catch (const std::exception& e) {
+    return refuse("failed", e.what());
+  }
+  const std::string json = io::run_summary_json(report, session.context(), result.results_file);
+  {
+    std::ofstream out(result.summary_file);
+    out << json << "\n";
+  }
+  result.verdict = session.verdict_word();
+  result.message = report.failure;
+  for (const protocol::StageOutcome& s : report.stages) {
+    result.stages.push_back(s.name);
+    result.stop_reasons.push_back(s.stop_reason);
+  }
+  const protocol::ShearSummary& sh = report.shear;
+  result.e0 = sh.e0;
+  result.phi_peak = sh.phi_peak;
+  result.eps_peak = sh.eps_peak;
+  result.phi_end = sh.phi_end;
+  result.mean_moment_index = sh.mean_moment_index_to_peak;
+  result.quasi_static_threshold = scene.control.quasi_static_threshold;
+  result.quasi_static = sh.quasi_static;
+  result.runtime = report.wall_seconds;
+  result.steps = report.steps;
+  result.ticks = static_cast<std::uint64_t>(report.ticks);
+  virtual_triaxial::ProtocolStatus st;
+  st.state = result.verdict;
+  st.message = report.failure;
+  status_pub_.publish(st);
+  ROS_INFO("test_protocol_node: %s after %lld steps (%.1f s): %s", result.verdict.c_str(),
+           static_cast<long long>(report.steps), report.wall_seconds, result.summary_file.c_str());
+  running_ = false;
+  if (result.verdict == "completed") server_.setSucceeded(result, "completed");
+  else if (result.verdict == "preempted") server_.setPreempted(result, report.failure);
+  else server_.setAborted(result, result.verdict + ": " + report.failure);
+}
+
+}  // namespace vt::ros
