@@ -237,11 +237,14 @@ void parse_control(const YAML::Node& node, ControlSpec& c) {
   sv.parameters.gain = positive(v, "gain", sv.parameters.gain);
   require(sv.parameters.gain <= 1.0, v.path("gain"), "must be in (0, 1], got " + num(sv.parameters.gain));
   sv.max_dimensionless_rate = positive(v, "max_dimensionless_rate", sv.max_dimensionless_rate);
+  sv.parameters.ki = non_negative(v, "ki", sv.parameters.ki);
+  sv.parameters.kd = non_negative(v, "kd", sv.parameters.kd);
+  sv.max_dimensionless_rate_change = non_negative(v, "max_rate_change", sv.max_dimensionless_rate_change);
   sv.parameters.max_strain_rate = 1.0;  // placeholder for the check below; set from T0 per stage
   try {
     control::make_servo(sv.strategy, sv.parameters);
   } catch (const std::invalid_argument& e) {
-    throw SceneError(v.path("strategy"), e.what());
+    throw SceneError(v.path(), e.what());
   }
 }
 

@@ -69,6 +69,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   if (boundary.any_servo()) {
     control::ServoParameters p = options_.servo.parameters;
     p.max_strain_rate = options_.servo.max_dimensionless_rate / t0;
+    p.max_rate_change = options_.servo.max_dimensionless_rate_change / t0;
     servo = control::make_servo(options_.servo.strategy, p);
     servo->init({boundary.target[0], boundary.target[1], boundary.target[2]},
                 {boundary.servo[0], boundary.servo[1], boundary.servo[2]});

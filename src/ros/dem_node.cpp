@@ -74,7 +74,9 @@ void DemNode::read_parameters() {
   loader_ = std::make_unique<SpecimenLoader>(o);
 
   try {
-    install(sample ? loader_->load_sample(*sample) : loader_->load_scene(*scene));
+    const bool yaml = sample && (sample->size() > 5 && (sample->compare(sample->size() - 5, 5, ".yaml") == 0 ||
+                                                       sample->compare(sample->size() - 4, 4, ".yml") == 0));
+    install(sample && !yaml ? loader_->load_sample(*sample) : loader_->load_scene(sample ? *sample : *scene));
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(sample ? "~sample: " : "~scene: ") + e.what());
   }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <dynamic_reconfigure/Reconfigure.h>
 #include <std_srvs/Trigger.h>
 
 #include "virtual_triaxial/ClaimAxes.h"
@@ -53,12 +54,42 @@ std::uint64_t ProtocolSession::current_tick() {
   return info.response.tick;
 }
 
+void ProtocolSession::tune_servo() {
+  const protocol::ServoSettings& sv = scene_->control.servo;
+  const std::string name = servo_ + "/set_parameters";
+  ::ros::ServiceClient c = nh_.serviceClient<dynamic_reconfigure::Reconfigure>(name);
+  if (!c.waitForExistence(::ros::Duration(1.0))) {
+    ROS_WARN_ONCE("test_protocol_node: %s not available: the servo keeps its own tuning (the protocol asks for "
+                  "%s, gain %g, ki %g)", name.c_str(), sv.strategy.c_str(), sv.parameters.gain, sv.parameters.ki);
+    return;
+  }
+  dynamic_reconfigure::Reconfigure r;
+  auto add = [&](const char* key, double v) {
+    dynamic_reconfigure::DoubleParameter d;
+    d.name = key;
+    d.value = v;
+    r.request.config.doubles.push_back(d);
+  };
+  add("gain", sv.parameters.gain);
+  add("ki", sv.parameters.ki);
+  add("kd", sv.parameters.kd);
+  add("max_dimensionless_rate", sv.max_dimensionless_rate);
+  add("max_rate_change", sv.max_dimensionless_rate_change);
+  if (!c.call(r)) throw RigError(name + ": call failed");
+  for (const auto& d : r.response.config.doubles)
+    for (const auto& want : r.request.config.doubles)
+      if (d.name == want.name && d.value != want.value)
+        throw RigError("control.servo." + d.name + ": the servo refused " + std::to_string(want.value) +
+                       " (keeps " + std::to_string(d.value) + "; see its log)");
+}
+
 void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b) {
   trigger("reset_strain");
   if (!b.any_servo()) {
     trigger(servo_ + "/disable");
   } else {
     trigger(servo_ + "/disable");
+    tune_servo();
     virtual_triaxial::SetServoAxes axes;
     for (int a : b.servo_axes()) axes.request.axes.push_back(static_cast<std::uint8_t>(a));
     call(servo_ + "/set_axes", axes);
@@ -184,6 +215,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       break;
     }
     tick_ = want;
+    ctx_.energy_relative_balance_error = msgs->energy->relative_balance_error;
     const std::int64_t steps = static_cast<std::int64_t>(tick_ - start) * n;
     const TickMessages& m = *msgs;
     const bool sample = protocol::is_sample_tick(steps, n, scene.output.interval);

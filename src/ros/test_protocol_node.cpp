@@ -19,7 +19,7 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
     : nh_(nh),
       pnh_(pnh),
       tick_nh_(nh),
-      server_(nh_, "run_test", [this](const virtual_triaxial::RunTestGoalConstPtr& g) { execute(g); }, false) {
+      server_(nh_, "run_test", false) {
   pnh_.param<std::string>("output_dir", output_dir_, "protocol_output");
   pnh_.param<std::string>("servo", servo_, "servo");
   tick_timeout_ = optional_double(pnh_, "tick_timeout").value_or(30.0);
@@ -47,9 +47,41 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
   virtual_triaxial::ProtocolStatus idle;
   idle.state = "idle";
   status_pub_.publish(idle);
+  server_.registerGoalCallback([this](GoalHandle g) { on_goal(g); });
+  server_.registerCancelCallback([this](GoalHandle g) { on_cancel(g); });
   server_.start();
   ROS_INFO("test_protocol_node: ready (action %s, output %s)", nh_.resolveName("run_test").c_str(),
            output_dir_.c_str());
+}
+
+TestProtocolNode::~TestProtocolNode() {
+  abort_ = true;
+  std::lock_guard<std::mutex> lock(goal_mutex_);
+  if (worker_.joinable()) worker_.join();
+}
+
+void TestProtocolNode::on_goal(GoalHandle goal) {
+  std::lock_guard<std::mutex> lock(goal_mutex_);
+  if (running_) {
+    virtual_triaxial::RunTestResult r;
+    r.verdict = "failed";
+    r.message = "goal: a test is running; cancel it (or call ~abort) first";
+    ROS_ERROR("test_protocol_node: rejected a goal: %s", r.message.c_str());
+    goal.setRejected(r, r.message);
+    return;
+  }
+  if (worker_.joinable()) worker_.join();  // the previous test has ended (running_ is false)
+  running_ = true;
+  abort_ = false;
+  preempt_ = false;
+  current_ = goal;
+  goal.setAccepted();
+  worker_ = std::thread([this, goal] { execute(goal); });
+}
+
+void TestProtocolNode::on_cancel(GoalHandle goal) {
+  std::lock_guard<std::mutex> lock(goal_mutex_);
+  if (running_ && goal == current_) preempt_ = true;
 }
 
 bool TestProtocolNode::on_abort(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
@@ -91,9 +123,8 @@ std::string protocol_path(const virtual_triaxial::RunTestGoal& g, const fs::path
 
 }  // namespace
 
-void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal) {
-  running_ = true;
-  abort_ = false;
+void TestProtocolNode::execute(GoalHandle gh) {
+  const boost::shared_ptr<const virtual_triaxial::RunTestGoal> goal = gh.getGoal();
   virtual_triaxial::RunTestResult result;
   const fs::path dir = fs::absolute(goal->output_dir.empty() ? output_dir_ : goal->output_dir);
   result.results_file = (dir / "results.h5").string();
@@ -106,8 +137,8 @@ void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal
     st.state = verdict;
     st.message = why;
     status_pub_.publish(st);
-    server_.setAborted(result, why);
     running_ = false;
+    gh.setAborted(result, why);
   };
   io::SceneConfig scene;
   std::string path;
@@ -126,7 +157,7 @@ void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal
   SessionLinks links;
   links.wait_tick = [this](std::uint64_t t) { return wait_tick(t); };
   links.stop_request = [this]() -> const char* {
-    if (server_.isPreemptRequested()) return "preempted";
+    if (preempt_) return "preempted";
     if (abort_) return "aborted";
     return nullptr;
   };
@@ -136,7 +167,7 @@ void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal
     c.owner = ::ros::this_node::getName();
     command_pub_.publish(c);
   };
-  links.feedback = [this](const virtual_triaxial::RunTestFeedback& f) { server_.publishFeedback(f); };
+  links.feedback = [&gh](const virtual_triaxial::RunTestFeedback& f) { gh.publishFeedback(f); };
   links.status = [this](const virtual_triaxial::ProtocolStatus& s) { status_pub_.publish(s); };
   protocol::RunReport report;
   try {
@@ -175,9 +206,9 @@ void TestProtocolNode::execute(const virtual_triaxial::RunTestGoalConstPtr& goal
   ROS_INFO("test_protocol_node: %s after %lld steps (%.1f s): %s", result.verdict.c_str(),
            static_cast<long long>(report.steps), report.wall_seconds, result.summary_file.c_str());
   running_ = false;
-  if (result.verdict == "completed") server_.setSucceeded(result, "completed");
-  else if (result.verdict == "preempted") server_.setPreempted(result, report.failure);
-  else server_.setAborted(result, result.verdict + ": " + report.failure);
+  if (result.verdict == "completed") gh.setSucceeded(result, "completed");
+  else if (result.verdict == "preempted") gh.setCanceled(result, report.failure);
+  else gh.setAborted(result, result.verdict + ": " + report.failure);
 }
 
 }  // namespace vt::ros

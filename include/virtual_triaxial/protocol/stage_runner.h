@@ -53,7 +53,10 @@ struct StageOutcome {
 /// The servo of servo-controlled stages (consolidation, drained shear).
 struct ServoSettings {
   std::string strategy = "proportional";   ///< control::make_servo name
-  control::ServoParameters parameters;     ///< max_strain_rate is set from max_dimensionless_rate / T0
+  /// gain, ki, kd as given; max_strain_rate is set from max_dimensionless_rate / T0 and
+  /// max_rate_change [1/s] from max_dimensionless_rate_change / T0 when a stage starts.
+  control::ServoParameters parameters;
+  double max_dimensionless_rate_change = 0.0;  ///< |delta rate| T0 per update, 0 = off (servo node ~max_rate_change)
   double max_dimensionless_rate = 1e-4;    ///< cap on |eps'| of the servo rates
 };
 

@@ -2,7 +2,8 @@
 // (DESIGN §6). A thin adapter between ROS and dem::Simulation.
 //
 // Parameters (private, `~`):
-//   sample                  HDF5 sample file (io/sample_file.h)       } exactly
+//   sample                  HDF5 sample file (io/sample_file.h; a .yaml } exactly
+//                           path is taken as a scene / protocol)      }
 //   scene                   YAML scene (config/scenes/README.md)       } one
 //   publish_every     10    DEM steps per control tick (int >= 1)
 //   lockstep          true  wait for every closed-loop owner's command each tick

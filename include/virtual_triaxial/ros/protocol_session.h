@@ -57,6 +57,8 @@ class ProtocolSession {
   void call(const std::string& name, Srv& srv);
   void trigger(const std::string& name);
   std::uint64_t current_tick();
+  /// control.servo -> the servo's dynamic_reconfigure (if it has one).
+  void tune_servo();
   void configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b);
   /// false when the run must end (report updated)
   bool run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count, io::ResultsRecorder& recorder,

@@ -43,14 +43,21 @@
 // paused with every axis open loop at rate 0.
 // Bad goals (no or two protocols, a protocol that fails validation, a
 // control.interval that differs from dem_node's publish_every) are refused
-// with the field named; the node keeps serving.
+// with the field named; the node keeps serving. One test at a time: a goal
+// that arrives while a test runs is rejected (cancel the running one first).
+// Goals are not ordered by their stamps (actionlib's SimpleActionServer
+// recalls a goal stamped before the previous one, and the rig's simulation
+// time, which stamps the goals under use_sim_time, restarts at every
+// load_sample).
 #pragma once
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
+#include <thread>
 
-#include <actionlib/server/simple_action_server.h>
+#include <actionlib/server/action_server.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
@@ -66,9 +73,13 @@ namespace vt::ros {
 class TestProtocolNode {
  public:
   TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh);
+  ~TestProtocolNode();
 
  private:
-  void execute(const virtual_triaxial::RunTestGoalConstPtr& goal);
+  using GoalHandle = actionlib::ServerGoalHandle<virtual_triaxial::RunTestAction>;
+  void on_goal(GoalHandle goal);
+  void on_cancel(GoalHandle goal);
+  void execute(GoalHandle goal);  ///< in worker_
   /// The state of `tick`, or nullopt after tick_timeout (or when stopped).
   std::optional<TickMessages> wait_tick(std::uint64_t tick);
   bool on_abort(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
@@ -81,8 +92,12 @@ class TestProtocolNode {
   TickCollector ticks_;
   std::atomic<bool> abort_{false};
   std::atomic<bool> running_{false};
+  std::atomic<bool> preempt_{false};
+  std::mutex goal_mutex_;   ///< guards current_ and worker_
+  GoalHandle current_;      ///< the goal being executed
+  std::thread worker_;      ///< runs execute()
 
-  actionlib::SimpleActionServer<virtual_triaxial::RunTestAction> server_;
+  actionlib::ActionServer<virtual_triaxial::RunTestAction> server_;
   ::ros::Publisher status_pub_, command_pub_;
   ::ros::Subscriber stress_sub_, strain_sub_, moment_sub_, energy_sub_, fabric_sub_;
   ::ros::ServiceServer abort_srv_;

@@ -1,0 +1,225 @@
+#!/usr/bin/python3
+"""Test node of bag_report.test: checks scripts/bag_report.py on synthetic bags.
+
+Writes a recording of a fake rig in the namespace /rig1, split into two bag
+files (ticks 1..25 and 26..50, given to the tool in reverse order), with
+Stress, Strain, MomentIndex, KineticEnergy, Fabric and ServoState messages
+following closed forms of the tick k (q = 2 eps_a 1e5 Pa, ...), plus an
+unrelated topic. Runs the tool as a subprocess and checks that
+  - the CSV has one row per tick, ticks strictly rising, and its columns
+    reproduce the closed forms to 1e-12 relative;
+  - every PNG exists and is a non-empty PNG;
+  - --csv-only writes no PNG;
+  - a missing bag, and a bag without rig topics, give exit status 2 and a
+    message naming the file.
+No ROS master needed (rosbag only).
+"""
+import csv
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import rosbag
+import rospy
+from std_msgs.msg import String
+from virtual_triaxial.msg import Fabric, KineticEnergy, MomentIndex, ServoState, Strain, Stress
+
+PKG = "virtual_triaxial"
+HERE = os.path.dirname(os.path.abspath(__file__))
+TOOL = os.path.join(HERE, "..", "..", "scripts", "bag_report.py")
+NTICKS = 50
+SPLIT = 25
+PNGS = ["q_eps_a.png", "eps_v_eps_a.png", "q_p_stress_path.png", "e_log_p.png", "I_mom_eps_a.png",
+        "kinetic_energy_eps_a.png"]
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def closed_form(k):
+    """Expected values of tick k (SI, compression positive)."""
+    eps_a = 1e-4 * k
+    s3 = 1e5
+    q = 2 * eps_a * 1e5
+    s1 = s3 + q
+    eps_v = 0.3 * eps_a - 5.0 * eps_a ** 2
+    return {
+        "time_s": 1e-6 * k + 0.5,
+        "control_period_s": 6.2e-8,
+        "sigma_xx_Pa": s3, "sigma_yy_Pa": s3, "sigma_zz_Pa": s1,
+        "sigma_xy_Pa": 10.0 * k, "sigma_xz_Pa": -3.0 * k, "sigma_yz_Pa": 0.25 * k,
+        "s1_Pa": s1, "s2_Pa": s3, "s3_Pa": s3,
+        "p_Pa": (s1 + 2 * s3) / 3.0, "q_Pa": q, "phi_rad": math.asin(q / (s1 + s3)),
+        "sigma_bar_p": (s1 + 2 * s3) / 3.0 / 7e10,
+        "stiffness_x_Pa": 3e8 + k, "stiffness_y_Pa": 3e8 + 2 * k, "stiffness_z_Pa": 4e8 - k,
+        "eps_a": eps_a, "eps_v": eps_v, "eps_x": -(eps_a - eps_v) / 2, "eps_y": -(eps_a - eps_v) / 2,
+        "eps_z": eps_a,
+        "eps_rate_z_per_s": 32.1, "eps_rate_dimensionless_z": 1e-5,
+        "I_mom": 1e-4 * (1 + k), "ufr": 2e-4 / k, "I_uf": 3e-5 * k, "I_in": 1e-7 * k * k,
+        "ke_trans_J": 1e-9 * k * k, "ke_rot_J": 3e-10 * k, "boundary_work_J": 1e-3 * k,
+        "elastic_energy_J": 4e-4 * k, "damping_dissipation_J": 1e-5 * k, "friction_dissipation_J": 2e-4 * k,
+        "energy_balance_error_J": 1e-12 * k, "energy_relative_balance_error": 1e-9 * k,
+        "e": 0.65 - 1.65 * eps_v, "Z_mech": 4.5 - 1e-3 * k, "Z_raw": 4.1 + 1e-3 * k,
+        "idle_mass_fraction": 0.05 + 1e-4 * k, "contacts": 400 + k, "sliding_contacts": k // 3,
+        "servo_target_x_Pa": 1e5, "servo_error_x_Pa": 0.5 * k - 7.0, "servo_rate_x_per_s": -1e-3 * k,
+        "servo_saturated_x": k % 2, "servo_enabled": 1,
+    }
+
+
+def messages(k):
+    v = closed_form(k)
+    stamp = rospy.Time.from_sec(v["time_s"])
+
+    def hdr(m):
+        m.header.stamp = stamp
+        m.tick = k
+        return m
+
+    s = hdr(Stress())
+    s.time = v["time_s"]
+    s.control_period = v["control_period_s"]
+    xy, xz, yz = v["sigma_xy_Pa"], v["sigma_xz_Pa"], v["sigma_yz_Pa"]
+    s.stress = [v["sigma_xx_Pa"], xy, xz, xy, v["sigma_yy_Pa"], yz, xz, yz, v["sigma_zz_Pa"]]
+    s.principal = [v["s1_Pa"], v["s2_Pa"], v["s3_Pa"]]
+    s.p, s.q, s.phi, s.sigma_bar_p = v["p_Pa"], v["q_Pa"], v["phi_rad"], v["sigma_bar_p"]
+    s.stiffness = [v["stiffness_x_Pa"], v["stiffness_y_Pa"], v["stiffness_z_Pa"]]
+    e = hdr(Strain())
+    e.time = v["time_s"]
+    e.strain = [v["eps_x"], v["eps_y"], v["eps_z"]]
+    e.volumetric = v["eps_v"]
+    e.strain_rate = [0.0, 0.0, v["eps_rate_z_per_s"]]
+    e.strain_rate_dimensionless = [0.0, 0.0, v["eps_rate_dimensionless_z"]]
+    m = hdr(MomentIndex())
+    m.time = v["time_s"]
+    m.moment_index, m.ufr, m.iuf, m.inertia_index = v["I_mom"], v["ufr"], v["I_uf"], v["I_in"]
+    ke = hdr(KineticEnergy())
+    ke.time = v["time_s"]
+    ke.translational, ke.rotational = v["ke_trans_J"], v["ke_rot_J"]
+    ke.boundary_work, ke.elastic = v["boundary_work_J"], v["elastic_energy_J"]
+    ke.damping, ke.friction = v["damping_dissipation_J"], v["friction_dissipation_J"]
+    ke.balance_error, ke.relative_balance_error = v["energy_balance_error_J"], v["energy_relative_balance_error"]
+    f = hdr(Fabric())
+    f.time = v["time_s"]
+    f.void_ratio, f.coordination_number, f.raw_coordination_number = v["e"], v["Z_mech"], v["Z_raw"]
+    f.idle_mass_fraction, f.contacts, f.sliding_contacts = v["idle_mass_fraction"], v["contacts"], v["sliding_contacts"]
+    sv = hdr(ServoState())
+    sv.strategy = "proportional"
+    sv.enabled = True
+    sv.controlled = [True, True, False]
+    sv.targets = [v["servo_target_x_Pa"], 1e5, 0.0]
+    sv.errors = [v["servo_error_x_Pa"], 0.0, 0.0]
+    sv.saturated = [bool(v["servo_saturated_x"]), False, False]
+    sv.strain_rate = [v["servo_rate_x_per_s"], 0.0, 0.0]
+    sv.gain, sv.max_strain_rate = 1.0, 321.0
+    return stamp, [("/rig1/stress", s), ("/rig1/strain", e), ("/rig1/moment_index", m),
+                   ("/rig1/kinetic_energy", ke), ("/rig1/fabric", f), ("/rig1/servo_state", sv),
+                   ("/chatter", String(data="not a rig topic %d" % k))]
+
+
+def run_tool(*args):
+    return subprocess.run(["/usr/bin/python3", TOOL] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          universal_newlines=True, timeout=300)
+
+
+class BagReportTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="vt_bag_report_")
+        cls.bags = [os.path.join(cls.tmp, "rig_%d.bag" % i) for i in range(2)]
+        for i, path in enumerate(cls.bags):
+            with rosbag.Bag(path, "w") as bag:
+                ticks = range(1, SPLIT + 1) if i == 0 else range(SPLIT + 1, NTICKS + 1)
+                for k in ticks:
+                    stamp, msgs = messages(k)
+                    for topic, msg in msgs:
+                        bag.write(topic, msg, t=stamp)
+        cls.out = os.path.join(cls.tmp, "report")
+        # split files given in reverse order: the tool must read them in time order
+        cls.result = run_tool(cls.bags[1], cls.bags[0], "--out", cls.out)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def rows(self):
+        with open(os.path.join(self.out, "rig_series.csv"), newline="") as f:
+            return list(csv.DictReader(f))
+
+    def test_tool_succeeds_and_says_what_it_wrote(self):
+        r = self.result
+        self.assertEqual(r.returncode, 0, "stdout:\n%s\nstderr:\n%s" % (r.stdout, r.stderr))
+        self.assertIn(os.path.join(self.out, "rig_series.csv"), r.stdout)
+        for png in PNGS:
+            self.assertIn(os.path.join(self.out, png), r.stdout)
+
+    def test_one_row_per_tick_strictly_rising(self):
+        rows = self.rows()
+        self.assertEqual(len(rows), NTICKS)
+        ticks = [int(r["tick"]) for r in rows]
+        self.assertEqual(ticks, list(range(1, NTICKS + 1)))
+        self.assertTrue(all(b > a for a, b in zip(ticks, ticks[1:])))
+
+    def test_columns_reproduce_the_closed_form(self):
+        rows = self.rows()
+        self.assertEqual(len(rows), NTICKS)
+        for key in ("time_s", "eps_a", "eps_v", "p_Pa", "q_Pa", "phi_rad", "e", "I_mom", "ufr", "ke_trans_J"):
+            self.assertIn(key, rows[0], "column %s missing; have %s" % (key, sorted(rows[0])))
+        for r in rows:
+            k = int(r["tick"])
+            want = closed_form(k)
+            for key, v in want.items():
+                self.assertIn(key, r, "column %s missing" % key)
+                got = float(r[key])
+                self.assertLessEqual(abs(got - v), 1e-12 * abs(v), "tick %d %s: %r != %r" % (k, key, got, v))
+            # the closed form of the brief, checked directly as well
+            self.assertLessEqual(abs(float(r["q_Pa"]) - 2 * float(r["eps_a"]) * 1e5), 1e-12 * float(r["q_Pa"]))
+            self.assertAlmostEqual(float(r["phi_deg"]), math.degrees(want["phi_rad"]), delta=1e-12 * 90)
+
+    def test_every_png_is_a_non_empty_png(self):
+        for png in PNGS:
+            path = os.path.join(self.out, png)
+            self.assertTrue(os.path.isfile(path), path)
+            self.assertGreater(os.path.getsize(path), 1000, path)
+            with open(path, "rb") as f:
+                self.assertEqual(f.read(8), PNG_MAGIC, path)
+
+    def test_csv_only_writes_no_png(self):
+        out = os.path.join(self.tmp, "csv_only")
+        r = run_tool(self.bags[0], "--out", out, "--csv-only")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(sorted(os.listdir(out)), ["rig_series.csv"])
+        with open(os.path.join(out, "rig_series.csv"), newline="") as f:
+            self.assertEqual(len(list(csv.DictReader(f))), SPLIT)
+
+    def test_missing_bag_exits_2_naming_the_path(self):
+        missing = os.path.join(self.tmp, "no_such_recording.bag")
+        r = run_tool(self.bags[0], missing, "--out", os.path.join(self.tmp, "x"))
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(missing, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_bag_without_rig_topics_exits_2_naming_the_file(self):
+        path = os.path.join(self.tmp, "chatter.bag")
+        with rosbag.Bag(path, "w") as bag:
+            bag.write("/chatter", String(data="hello"), t=rospy.Time(1, 0))
+        r = run_tool(path, "--out", os.path.join(self.tmp, "y"))
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(path, r.stderr)
+        self.assertIn("no rig topics", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_not_a_bag_exits_2_naming_the_file(self):
+        path = os.path.join(self.tmp, "garbage.bag")
+        with open(path, "w") as f:
+            f.write("this is not a bag\n")
+        r = run_tool(path, "--out", os.path.join(self.tmp, "z"))
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn(path, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+
+if __name__ == "__main__":
+    import rostest
+    rostest.rosrun(PKG, "bag_report_check", BagReportTest, sys.argv)
