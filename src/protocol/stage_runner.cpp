@@ -29,6 +29,7 @@ const char* to_string(Verdict v) {
     case Verdict::Unstable: return "unstable";
     case Verdict::StepLimit: return "step_limit";
     case Verdict::Aborted: return "aborted";
+    case Verdict::Preempted: return "preempted";
   }
   return "?";
 }

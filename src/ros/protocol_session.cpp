@@ -242,7 +242,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
     }
     if (stop) {
       ok = false;
-      report.verdict = protocol::Verdict::Aborted;
+      report.verdict = std::string(stop) == "preempted" ? protocol::Verdict::Preempted : protocol::Verdict::Aborted;
       report.failure = std::string(stop) + " during stage '" + st.name + "'";
       why = stop;
       verdict_word_ = stop;

@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
       case vt::protocol::Verdict::Completed: return 0;
       case vt::protocol::Verdict::Unstable: return 3;
       case vt::protocol::Verdict::StepLimit: return 4;
-      case vt::protocol::Verdict::Aborted: return 5;
+      case vt::protocol::Verdict::Aborted:
+      case vt::protocol::Verdict::Preempted: return 5;
     }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "triax_run: error: %s\n", e.what());

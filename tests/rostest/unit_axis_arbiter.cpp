@@ -33,7 +33,6 @@ TEST(AxisArbiter, ClaimsAreExclusiveAllOrNothingAndReleasable) {
   EXPECT_EQ(a.owner(2), "") << "a refused claim must not take any axis";
   EXPECT_TRUE(starts_with(a.claim("", {2}, 0), "owner:"));
   EXPECT_TRUE(starts_with(a.claim("x", {3}, 0), "axes:"));
-  EXPECT_TRUE(starts_with(a.claim("x", {}, 0), "axes:"));
   EXPECT_TRUE(starts_with(a.release("other", {0}), "owner:"));
   EXPECT_EQ(a.claim("other", {2}, 0), "");
   EXPECT_TRUE(starts_with(a.release("other", {0}), "axes:"));
@@ -41,6 +40,20 @@ TEST(AxisArbiter, ClaimsAreExclusiveAllOrNothingAndReleasable) {
   EXPECT_EQ(a.owner(0), "");
   EXPECT_EQ(a.owner(1), "");
   EXPECT_EQ(a.claim("other", {0}, 0), "") << "a released axis is free";
+}
+
+TEST(AxisArbiter, AClaimWithoutAxesMakesALockstepParticipant) {
+  AxisArbiter a = make();
+  EXPECT_EQ(a.claim("protocol", {}, 3), "");
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(a.owner(i), "") << "a participant owns no axis";
+  EXPECT_TRUE(a.missing_owners(3).empty()) << "joined at tick 3: answers from tick 4 on";
+  ASSERT_EQ(a.missing_owners(4), std::vector<std::string>{"protocol"});
+  EXPECT_EQ(a.command("protocol", 4, {}, {}, 4, true), "") << "an empty command answers the tick";
+  EXPECT_TRUE(a.missing_owners(4).empty());
+  EXPECT_EQ(a.set_open_loop_rate(2, 1.0), "") << "a participant does not block open-loop axes";
+  EXPECT_EQ(a.release("protocol", {}), "");
+  EXPECT_TRUE(a.missing_owners(5).empty()) << "released: no longer waited for";
+  EXPECT_TRUE(starts_with(a.command("protocol", 5, {}, {}, 5, true), "owner:"));
 }
 
 TEST(AxisArbiter, OpenLoopRatesAreCheckedAndOwnedAxesRefused) {

@@ -40,7 +40,8 @@
 
 namespace vt::protocol {
 
-enum class Verdict { Completed, Unstable, StepLimit, Aborted };
+/// Preempted: the ROS action was cancelled (the headless runner never ends so).
+enum class Verdict { Completed, Unstable, StepLimit, Aborted, Preempted };
 const char* to_string(Verdict v);
 
 struct StageOutcome {

@@ -1,0 +1,586 @@
+// rostest protocol_rig.test: test_protocol_node on the rig of
+// launch_equiv_scripts/protocol_rig.launch (dem_node paused, servo "servo"
+// disabled), driven through the run_test action with the small protocols of
+// tests/data/protocols/ on the 200-sphere sample tests/data/sample_200_100kPa.h5.
+//
+// The tests run in order (gtest keeps the order of definition) against one rig:
+//   1. drained mini test (consolidation + drained shear to 1 %): completed,
+//      lateral stresses within 1 % RMS of 100 kPa during the shear (ASTM
+//      D4767), target strain reached within one tick, summary sane, files
+//      written, stamps strictly rising; the headless triax_run on the same file
+//      prints the same e0, phi_peak, eps_peak, mean I_mom (9 digits);
+//   2. undrained mini test: the cell volume is constant on every tick;
+//   3. lockstep determinism: the drained mini test again with two CPU hogs
+//      beside it gives a bit-identical stress series;
+//   4. preemption: cancelling a long test ends it within seconds, verdict
+//      "preempted", summary written, rig paused; ~abort gives "aborted";
+//      ~abort when idle is refused;
+//   5. bad goals (two protocols, bad stage type, wrong control.interval) are
+//      refused naming the field, the node keeps serving: an inline YAML goal
+//      completes.
+// Goals are stamped with the simulation time, which restarts at every
+// load_sample: from test 3 on, goals are stamped before the previous goal
+// (test 2 ends at an earlier simulation time than test 1), which
+// actionlib's SimpleActionServer used to recall.
+//
+// The rig runs on simulation time (/use_sim_time), which stands still while
+// dem_node is paused: every wait here is in wall time.
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <actionlib/client/simple_action_client.h>
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+#include <yaml-cpp/yaml.h>
+
+#include "virtual_triaxial/GetInfo.h"
+#include "virtual_triaxial/ProtocolStatus.h"
+#include "virtual_triaxial/RunTestAction.h"
+#include "virtual_triaxial/Strain.h"
+#include "virtual_triaxial/Stress.h"
+
+namespace vtm = virtual_triaxial;
+namespace fs = std::filesystem;
+using Client = actionlib::SimpleActionClient<vtm::RunTestAction>;
+
+namespace {
+
+constexpr double kPressure = 100e3;     // confining pressure of the protocols [Pa]
+constexpr double kTarget = 0.01;        // axial strain target of drained_mini / undrained_mini
+constexpr double kEpsPrime = 1e-5;      // eps' of the shears
+constexpr double kTimeStepRatio = 0.1;  // c_t (0.3 gives a 1.2 % servo lag)
+constexpr int kInterval = 2;            // control.interval = publish_every
+/// Axial log strain of one control tick: eps' dt/T0 * interval.
+constexpr double kTickStrain = kEpsPrime * kTimeStepRatio * kInterval;
+constexpr double kRunTimeout = 120.0;   // wall seconds for one mini test
+
+std::string g_protocols, g_sample, g_tmp;
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+bool wait_until(const std::function<bool()>& pred, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (pred()) return true;
+    ros::WallDuration(0.02).sleep();
+  }
+  return pred();
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream o;
+  o << f.rdbuf();
+  return o.str();
+}
+
+std::string fmt9(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+
+/// The folder of this executable (build/devel/lib/virtual_triaxial), where
+/// triax_run is built too.
+fs::path exe_dir() { return fs::read_symlink("/proc/self/exe").parent_path(); }
+
+/// What one goal gave.
+struct TestRun {
+  bool finished = false;
+  actionlib::SimpleClientGoalState state{actionlib::SimpleClientGoalState::LOST};
+  vtm::RunTestResult result;
+  double wall = 0;                  ///< wall seconds until the result
+  std::uint64_t first = 0, last = 0;  ///< ticks of the run: [first, last]
+  std::map<std::string, std::uint64_t> stage_end;  ///< last tick of each stage (protocol_status)
+  std::vector<vtm::Stress> stress;  ///< by tick, first..last
+  std::vector<vtm::Strain> strain;
+  std::vector<vtm::ProtocolStatus> status;
+
+  /// Stress/strain index range (begin, end) of the ticks (from, to].
+  std::pair<std::size_t, std::size_t> range(std::uint64_t from, std::uint64_t to) const {
+    return {static_cast<std::size_t>(from + 1 - first), static_cast<std::size_t>(to + 1 - first)};
+  }
+};
+
+class Rig {
+ public:
+  Rig() : client_("run_test", false) {
+    stress_sub_ = nh_.subscribe("stress", 100000, &Rig::on_stress, this);
+    strain_sub_ = nh_.subscribe("strain", 100000, &Rig::on_strain, this);
+    status_sub_ = nh_.subscribe("protocol_status", 100000, &Rig::on_status, this);
+  }
+
+  bool ready() {
+    return wait_until([&] { return client_.isServerConnected(); }, 60.0) &&
+           wait_until([&] { return stress_sub_.getNumPublishers() > 0 && strain_sub_.getNumPublishers() > 0 &&
+                                   status_sub_.getNumPublishers() > 0; },
+                      30.0);
+  }
+
+  template <class S>
+  bool call(const std::string& name, S& srv) {
+    if (!wait_until([&] { return ros::service::exists(name, false); }, 30.0)) return false;
+    return ros::service::call(name, srv);
+  }
+
+  vtm::GetInfo::Response info() {
+    vtm::GetInfo s;
+    EXPECT_TRUE(call("get_info", s));
+    return s.response;
+  }
+
+  std_srvs::Trigger::Response abort() {
+    std_srvs::Trigger t;
+    EXPECT_TRUE(call("/test_protocol_node/abort", t));
+    return t.response;
+  }
+
+  /// Sends `goal`; `during` (if any) runs while it executes; waits for the
+  /// result (wall time) and collects the messages of its ticks.
+  TestRun run(const vtm::RunTestGoal& goal, double timeout = kRunTimeout,
+          const std::function<void(Client&)>& during = {}) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stress_.clear();
+      strain_.clear();
+      status_.clear();
+    }
+    TestRun r;
+    const ros::WallTime t0 = ros::WallTime::now();
+    client_.sendGoal(goal);
+    if (during) during(client_);
+    r.finished = wait_until([&] { return client_.getState().isDone(); }, timeout);
+    r.wall = (ros::WallTime::now() - t0).toSec();
+    if (!r.finished) {
+      client_.cancelGoal();
+      wait_until([&] { return client_.getState().isDone(); }, 30.0);
+      return r;
+    }
+    r.state = client_.getState();
+    if (vtm::RunTestResultConstPtr res = client_.getResult()) r.result = *res;
+    if (r.result.ticks == 0) return r;
+    r.last = info().tick;  // the rig halts right after the last tick of the test
+    r.first = r.last - r.result.ticks + 1;
+    // the state of the last tick may still be on its way
+    EXPECT_TRUE(wait_until([&] { return have(r.last); }, 10.0)) << "no stress/strain for tick " << r.last;
+    wait_until([&] { return last_status_done(); }, 5.0);
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (std::uint64_t k = r.first; k <= r.last; ++k) {
+      auto a = stress_.find(k);
+      auto b = strain_.find(k);
+      if (a == stress_.end() || b == strain_.end()) {
+        ADD_FAILURE() << "tick " << k << " of the run not received";
+        break;
+      }
+      r.stress.push_back(a->second);
+      r.strain.push_back(b->second);
+    }
+    r.status = status_;
+    for (const vtm::ProtocolStatus& s : status_)
+      if (!s.stage.empty() && s.tick > 0 && s.tick > r.stage_end[s.stage]) r.stage_end[s.stage] = s.tick;
+    return r;
+  }
+
+ private:
+  bool have(std::uint64_t k) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return stress_.count(k) && strain_.count(k);
+  }
+  bool last_status_done() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !status_.empty() && status_.back().state != "running";
+  }
+  void on_stress(const vtm::Stress::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stress_[m->tick] = *m;
+  }
+  void on_strain(const vtm::Strain::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    strain_[m->tick] = *m;
+  }
+  void on_status(const vtm::ProtocolStatus::ConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.push_back(*m);
+  }
+
+  ros::NodeHandle nh_;
+  Client client_;
+  ros::Subscriber stress_sub_, strain_sub_, status_sub_;
+  std::mutex mutex_;
+  std::map<std::uint64_t, vtm::Stress> stress_;
+  std::map<std::uint64_t, vtm::Strain> strain_;
+  std::vector<vtm::ProtocolStatus> status_;
+};
+
+Rig* g_rig = nullptr;
+TestRun g_drained;  // run of test 1, the reference of test 3
+
+vtm::RunTestGoal file_goal(const std::string& protocol, const std::string& out) {
+  vtm::RunTestGoal g;
+  g.protocol_file = g_protocols + "/" + protocol;
+  g.output_dir = g_tmp + "/" + out;
+  return g;
+}
+
+/// Sanity of a completed drained/undrained mini run (result + files).
+void expect_sane_summary(const TestRun& r) {
+  const vtm::RunTestResult& s = r.result;
+  EXPECT_GT(s.e0, 0.4);
+  EXPECT_LT(s.e0, 1.0);
+  EXPECT_GT(s.phi_peak, 0.0);
+  EXPECT_LT(s.phi_peak, 60.0 * M_PI / 180.0);
+  EXPECT_GE(s.eps_peak, 0.0);
+  EXPECT_LE(s.eps_peak, kTarget + kTickStrain * 1.01) << "peak beyond the last tick";
+  EXPECT_GT(s.mean_moment_index, 0.0);
+  EXPECT_TRUE(std::isfinite(s.mean_moment_index));
+  EXPECT_GT(s.runtime, 0.0);
+  EXPECT_LE(s.runtime, r.wall + 1.0);
+  EXPECT_GT(s.ticks, 0u);
+  EXPECT_EQ(s.steps, static_cast<std::int64_t>(kInterval * s.ticks));
+  EXPECT_EQ(s.stages.size(), s.stop_reasons.size());
+  EXPECT_TRUE(fs::is_regular_file(s.results_file)) << s.results_file;
+  EXPECT_GT(fs::file_size(s.results_file), 0u);
+  ASSERT_TRUE(fs::is_regular_file(s.summary_file)) << s.summary_file;
+  YAML::Node j;  // JSON is YAML
+  ASSERT_NO_THROW(j = YAML::Load(slurp(s.summary_file))) << slurp(s.summary_file);
+  ASSERT_TRUE(j.IsMap());
+  EXPECT_EQ(j["verdict"].as<std::string>(), "completed");
+  EXPECT_EQ(j["steps"].as<std::int64_t>(), s.steps);
+  EXPECT_EQ(j["ticks"].as<std::uint64_t>(), s.ticks);
+  EXPECT_EQ(j["particles"].as<int>(), 200);
+  EXPECT_EQ(j["stages"].size(), s.stages.size());
+  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "q_peak_pa", "phi_end_deg", "eps_end", "p_end_pa",
+                          "q_end_pa", "mean_moment_index_to_peak", "quasi_static_threshold", "wall_seconds", "t0_s",
+                          "dt_s"}) {
+    ASSERT_TRUE(j[key] && j[key].IsScalar()) << "summary.json lacks " << key;
+    EXPECT_TRUE(std::isfinite(j[key].as<double>())) << key;
+  }
+  EXPECT_EQ(j["quasi_static"].as<bool>(), s.quasi_static);
+  EXPECT_EQ(s.quasi_static, s.mean_moment_index < s.quasi_static_threshold);
+  EXPECT_GT(s.quasi_static_threshold, 0.0);
+  EXPECT_GT(s.phi_end, 0.0);
+  EXPECT_LE(s.phi_end, s.phi_peak);
+  EXPECT_EQ(j["results"].as<std::string>(), s.results_file);
+  EXPECT_EQ(s.stop_reasons.size(), s.stages.size());
+  for (const std::string& why : s.stop_reasons) EXPECT_FALSE(why.empty());
+}
+
+/// Stamps (header and full-precision time) strictly rising over the run.
+void expect_stamps_rising(const TestRun& r) {
+  for (std::size_t j = 1; j < r.stress.size(); ++j) {
+    EXPECT_GT(r.stress[j].header.stamp, r.stress[j - 1].header.stamp) << "tick " << r.stress[j].tick;
+    EXPECT_GT(r.stress[j].time, r.stress[j - 1].time) << "tick " << r.stress[j].tick;
+    EXPECT_EQ(r.strain[j].header.stamp, r.stress[j].header.stamp);
+  }
+  ros::Time prev(0, 0);
+  std::uint64_t prev_tick = 0;
+  for (const vtm::ProtocolStatus& s : r.status) {
+    if (s.state != "running" || s.tick == 0) continue;
+    if (s.tick > prev_tick) {
+      EXPECT_GT(s.header.stamp, prev) << "status of tick " << s.tick;
+    } else {
+      EXPECT_EQ(s.tick, prev_tick) << "protocol_status ticks going back";
+    }
+    prev = s.header.stamp;
+    prev_tick = s.tick;
+  }
+}
+
+}  // namespace
+
+TEST(ProtocolRig, DrainedMiniTestCompletesHoldsTheLateralStressAndMatchesTriaxRun) {
+  Rig& rig = *g_rig;
+  ASSERT_TRUE(rig.ready()) << "no run_test action server / rig topics";
+  const vtm::GetInfo::Response i0 = rig.info();
+  EXPECT_TRUE(i0.paused);
+  EXPECT_EQ(i0.publish_every, static_cast<std::uint32_t>(kInterval));
+
+  g_drained = rig.run(file_goal("drained_mini.yaml", "drained"));
+  const TestRun& r = g_drained;
+  ASSERT_TRUE(r.finished) << "no result within " << kRunTimeout << " s";
+  std::printf("[protocol_rig] drained mini: %s in %.1f s wall, %llu ticks\n", r.result.verdict.c_str(), r.wall,
+              static_cast<unsigned long long>(r.result.ticks));
+  EXPECT_EQ(r.state, actionlib::SimpleClientGoalState::SUCCEEDED);
+  ASSERT_EQ(r.result.verdict, "completed") << r.result.message;
+  ASSERT_EQ(r.result.stages, (std::vector<std::string>{"consolidation", "shear"}));
+  ASSERT_EQ(r.stress.size(), r.result.ticks);
+  ASSERT_EQ(r.strain.size(), r.result.ticks);
+  for (std::size_t j = 0; j < r.stress.size(); ++j) ASSERT_EQ(r.stress[j].tick, r.first + j);
+  expect_sane_summary(r);
+  expect_stamps_rising(r);
+
+  // the shear stage: ticks (end of consolidation, end of shear]
+  ASSERT_TRUE(r.stage_end.count("consolidation") && r.stage_end.count("shear"));
+  EXPECT_EQ(r.stage_end.at("shear"), r.last);
+  const auto [b, e] = r.range(r.stage_end.at("consolidation"), r.stage_end.at("shear"));
+  ASSERT_GT(e, b + 20) << "shear stage too short";
+  constexpr std::size_t kSkip = 5;  // the servo takes over the lateral axes
+  double sum2 = 0;
+  std::size_t n = 0;
+  for (std::size_t j = b + kSkip; j < e; ++j) {
+    const double ex = r.stress[j].stress[0] - kPressure, ey = r.stress[j].stress[4] - kPressure;
+    sum2 += ex * ex + ey * ey;
+    n += 2;
+  }
+  const double rms = std::sqrt(sum2 / static_cast<double>(n)) / kPressure;
+  const double eps_end = r.strain[e - 1].strain[2], eps_before = r.strain[e - 2].strain[2];
+  std::printf("[protocol_rig] shear: %zu ticks, lateral stress RMS error %.3f %%, eps_a %.6f at the end\n", e - b,
+              100 * rms, eps_end);
+  EXPECT_LT(rms, 0.01) << "lateral stresses not within 1 % RMS of the confining pressure (ASTM D4767)";
+  EXPECT_GE(eps_end, kTarget) << "target axial strain not reached";
+  EXPECT_LT(eps_before, kTarget) << "the stage went on after reaching the target";
+  EXPECT_LE(eps_end - kTarget, kTickStrain * 1.01) << "stopped more than one tick late";
+  EXPECT_NEAR(r.strain[b].strain[2], kTickStrain, 0.01 * kTickStrain) << "strain not reset at the stage start";
+  const vtm::GetInfo::Response i1 = rig.info();
+  EXPECT_TRUE(i1.paused);
+  EXPECT_EQ(i1.lockstep_timeouts, 0u);
+  EXPECT_EQ(i1.axis_owners[0], "");
+  EXPECT_EQ(i1.axis_owners[2], "");
+
+  // the same protocol headless
+  const fs::path triax_run = exe_dir() / "triax_run";
+  ASSERT_TRUE(fs::exists(triax_run)) << triax_run << " not built (make all)";
+  const fs::path out = fs::path(g_tmp) / "headless";
+  fs::create_directories(out);
+  const std::string cmd = triax_run.string() + " " + g_protocols + "/drained_mini.yaml --quiet --out " +
+                          (out / "results.h5").string() + " >" + (out / "stdout.txt").string() + " 2>" +
+                          (out / "stderr.txt").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << slurp(out / "stderr.txt");
+  std::string stdout_text = slurp(out / "stdout.txt"), line;
+  std::istringstream lines(stdout_text);
+  for (std::string l; std::getline(lines, l);)
+    if (!l.empty()) line = l;
+  YAML::Node h, rj;
+  ASSERT_NO_THROW(h = YAML::Load(line)) << line;
+  ASSERT_NO_THROW(rj = YAML::Load(slurp(r.result.summary_file)));
+  EXPECT_EQ(h["verdict"].as<std::string>(), "completed");
+  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "mean_moment_index_to_peak", "phi_end_deg", "q_peak_pa"})
+    EXPECT_EQ(rj[key].Scalar(), h[key].Scalar()) << key << ": rig vs triax_run";
+  const double deg = 180.0 / M_PI;
+  EXPECT_EQ(fmt9(r.result.e0), h["e0"].Scalar());
+  EXPECT_EQ(fmt9(r.result.phi_peak * deg), h["phi_peak_deg"].Scalar());
+  EXPECT_EQ(fmt9(r.result.eps_peak), h["eps_peak"].Scalar());
+  EXPECT_EQ(fmt9(r.result.mean_moment_index), h["mean_moment_index_to_peak"].Scalar());
+  EXPECT_EQ(h["steps"].as<std::int64_t>(), r.result.steps);
+  EXPECT_EQ(h["ticks"].as<std::uint64_t>(), r.result.ticks);
+}
+
+TEST(ProtocolRig, UndrainedMiniTestKeepsTheCellVolumeConstant) {
+  Rig& rig = *g_rig;
+  const TestRun r = rig.run(file_goal("undrained_mini.yaml", "undrained"));
+  ASSERT_TRUE(r.finished);
+  std::printf("[protocol_rig] undrained mini: %s in %.1f s wall, %llu ticks\n", r.result.verdict.c_str(), r.wall,
+              static_cast<unsigned long long>(r.result.ticks));
+  ASSERT_EQ(r.result.verdict, "completed") << r.result.message;
+  ASSERT_EQ(r.result.stages, std::vector<std::string>{"undrained"});
+  ASSERT_EQ(r.strain.size(), r.result.ticks);
+  expect_sane_summary(r);
+  double worst = 0;
+  for (const vtm::Strain& s : r.strain) {
+    EXPECT_LE(std::abs(s.volumetric), 1e-9) << "tick " << s.tick;
+    worst = std::max(worst, std::abs(s.volumetric));
+  }
+  std::printf("[protocol_rig] undrained: max |eps_v| %.3g over %zu ticks, eps_a %.6f at the end\n", worst,
+              r.strain.size(), r.strain.back().strain[2]);
+  EXPECT_GE(r.strain.back().strain[2], kTarget);
+}
+
+TEST(ProtocolRig, ARunUnderCpuLoadIsBitIdentical) {
+  Rig& rig = *g_rig;
+  ASSERT_EQ(g_drained.result.verdict, "completed") << "run of test 1 missing";
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> hogs;
+  for (int i = 0; i < 2; ++i)
+    hogs.emplace_back([&stop] {
+      volatile std::uint64_t x = 0;
+      while (!stop.load(std::memory_order_relaxed)) x = x + 1;
+    });
+  const TestRun b = rig.run(file_goal("drained_mini.yaml", "drained_loaded"));
+  stop = true;
+  for (std::thread& t : hogs) t.join();
+  ASSERT_TRUE(b.finished);
+  std::printf("[protocol_rig] drained mini under load: %s in %.1f s wall (%.1f s unloaded)\n",
+              b.result.verdict.c_str(), b.wall, g_drained.wall);
+  ASSERT_EQ(b.result.verdict, "completed") << b.result.message;
+  const TestRun& a = g_drained;
+  ASSERT_EQ(b.stress.size(), a.stress.size());
+  ASSERT_EQ(b.result.ticks, a.result.ticks);
+  std::size_t differing = 0;
+  for (std::size_t j = 0; j < a.stress.size(); ++j) {
+    const vtm::Stress &x = a.stress[j], &y = b.stress[j];
+    const bool same = std::memcmp(x.stress.data(), y.stress.data(), sizeof(double) * 9) == 0 &&
+                      std::memcmp(&x.q, &y.q, sizeof(double)) == 0 &&
+                      std::memcmp(&x.time, &y.time, sizeof(double)) == 0;
+    if (!same && differing++ == 0)
+      ADD_FAILURE() << "first difference at tick " << j + 1 << " of the run: sxx " << x.stress[0] << " vs "
+                    << y.stress[0] << ", q " << x.q << " vs " << y.q;
+  }
+  EXPECT_EQ(differing, 0u) << "ticks whose stress differs between the runs";
+  EXPECT_EQ(fmt9(a.result.phi_peak), fmt9(b.result.phi_peak));
+  EXPECT_EQ(rig.info().lockstep_timeouts, 0u);
+}
+
+TEST(ProtocolRig, CancelPreemptsAndAbortAborts) {
+  Rig& rig = *g_rig;
+  // cancel after ~2 s
+  const TestRun p = rig.run(file_goal("drained_long.yaml", "preempted"), 60.0, [&](Client& c) {
+    ros::WallDuration(2.0).sleep();
+    c.cancelGoal();
+  });
+  ASSERT_TRUE(p.finished) << "no result after cancelling";
+  std::printf("[protocol_rig] preempted run: result %.2f s after the goal (%llu ticks)\n", p.wall,
+              static_cast<unsigned long long>(p.result.ticks));
+  EXPECT_LT(p.wall, 2.0 + 5.0) << "the result came too late after the cancel";
+  EXPECT_EQ(p.state, actionlib::SimpleClientGoalState::PREEMPTED);
+  EXPECT_EQ(p.result.verdict, "preempted") << p.result.message;
+  EXPECT_FALSE(p.result.stages.empty());
+  EXPECT_EQ(p.result.stop_reasons.size(), p.result.stages.size());
+  if (!p.result.stop_reasons.empty()) {
+    EXPECT_EQ(p.result.stop_reasons.back(), "preempted");
+  }
+  EXPECT_GT(p.result.ticks, 0u);
+  EXPECT_LT(p.strain.empty() ? 1.0 : p.strain.back().strain[2], 0.5) << "the test was not cut short";
+  ASSERT_TRUE(fs::is_regular_file(p.result.summary_file));
+  const std::string js = slurp(p.result.summary_file);
+  YAML::Node j;
+  ASSERT_NO_THROW(j = YAML::Load(js)) << js;
+  EXPECT_EQ(j["verdict"].as<std::string>(), "preempted") << js;
+  EXPECT_TRUE(contains(j["failure"].as<std::string>(""), "preempted")) << js;
+  EXPECT_TRUE(fs::is_regular_file(p.result.results_file));
+  vtm::GetInfo::Response i = rig.info();
+  EXPECT_TRUE(i.paused) << "the rig runs on after the preemption";
+  EXPECT_EQ(i.tick, p.last);
+
+  // ~abort during another long run; a second goal meanwhile is rejected
+  std_srvs::Trigger::Response ab;
+  Client second("run_test", false);
+  actionlib::SimpleClientGoalState second_state(actionlib::SimpleClientGoalState::LOST);
+  vtm::RunTestResult second_result;
+  const TestRun a = rig.run(file_goal("drained_long.yaml", "aborted"), 60.0, [&](Client&) {
+    ros::WallDuration(1.0).sleep();
+    if (wait_until([&] { return second.isServerConnected(); }, 10.0)) {
+      second.sendGoal(file_goal("drained_mini.yaml", "second"));
+      if (wait_until([&] { return second.getState().isDone(); }, 10.0)) {
+        second_state = second.getState();
+        if (second.getResult()) second_result = *second.getResult();
+      }
+    }
+    ros::WallDuration(1.0).sleep();
+    ab = rig.abort();
+  });
+  EXPECT_EQ(second_state, actionlib::SimpleClientGoalState::REJECTED) << "a goal during a test";
+  EXPECT_EQ(second_result.verdict, "failed");
+  EXPECT_TRUE(contains(second_result.message, "goal")) << second_result.message;
+  ASSERT_TRUE(a.finished) << "no result after ~abort";
+  EXPECT_TRUE(ab.success) << ab.message;
+  EXPECT_LT(a.wall, 2.0 + 5.0);
+  EXPECT_EQ(a.state, actionlib::SimpleClientGoalState::ABORTED);
+  EXPECT_EQ(a.result.verdict, "aborted") << a.result.message;
+  EXPECT_FALSE(a.result.stages.empty());
+  ASSERT_TRUE(fs::is_regular_file(a.result.summary_file));
+  EXPECT_TRUE(contains(slurp(a.result.summary_file), "aborted"));
+  i = rig.info();
+  EXPECT_TRUE(i.paused);
+
+  // ~abort when idle
+  const std_srvs::Trigger::Response idle = rig.abort();
+  EXPECT_FALSE(idle.success);
+  EXPECT_FALSE(idle.message.empty());
+}
+
+TEST(ProtocolRig, BadGoalsAreRefusedNamingTheFieldAndTheNodeKeepsServing) {
+  Rig& rig = *g_rig;
+  const std::uint64_t tick0 = rig.info().tick;
+  {
+    vtm::RunTestGoal g = file_goal("drained_mini.yaml", "bad_both");
+    g.protocol_yaml = slurp(g.protocol_file);
+    const TestRun r = rig.run(g, 30.0);
+    ASSERT_TRUE(r.finished);
+    EXPECT_EQ(r.state, actionlib::SimpleClientGoalState::ABORTED);
+    EXPECT_EQ(r.result.verdict, "failed");
+    EXPECT_TRUE(contains(r.result.message, "goal")) << r.result.message;
+  }
+  {
+    const TestRun r = rig.run(vtm::RunTestGoal(), 30.0);  // no protocol at all
+    ASSERT_TRUE(r.finished);
+    EXPECT_EQ(r.result.verdict, "failed");
+    EXPECT_TRUE(contains(r.result.message, "goal")) << r.result.message;
+  }
+  {
+    const TestRun r = rig.run(file_goal("bad_stage_type.yaml", "bad_type"), 30.0);
+    ASSERT_TRUE(r.finished);
+    EXPECT_EQ(r.result.verdict, "failed");
+    EXPECT_TRUE(contains(r.result.message, "stages[0].type")) << r.result.message;
+  }
+  {
+    const TestRun r = rig.run(file_goal("bad_interval.yaml", "bad_interval"), 30.0);
+    ASSERT_TRUE(r.finished);
+    EXPECT_EQ(r.result.verdict, "failed");
+    EXPECT_TRUE(contains(r.result.message, "control.interval")) << r.result.message;
+  }
+  const vtm::GetInfo::Response i = rig.info();
+  EXPECT_EQ(i.tick, tick0) << "a refused goal ran the rig";
+  EXPECT_TRUE(i.paused);
+
+  // the next good goal: inline YAML with an absolute sample path
+  std::string yaml = slurp(g_protocols + "/drained_mini.yaml");
+  const std::string rel = "../sample_200_100kPa.h5";
+  const std::size_t at = yaml.find(rel);
+  ASSERT_NE(at, std::string::npos);
+  yaml.replace(at, rel.size(), g_sample);
+  vtm::RunTestGoal g;
+  g.protocol_yaml = yaml;
+  g.output_dir = g_tmp + "/inline";
+  const TestRun r = rig.run(g);
+  ASSERT_TRUE(r.finished);
+  EXPECT_EQ(r.state, actionlib::SimpleClientGoalState::SUCCEEDED);
+  ASSERT_EQ(r.result.verdict, "completed") << r.result.message;
+  expect_sane_summary(r);
+  EXPECT_TRUE(fs::is_regular_file(g.output_dir + "/protocol.yaml"));
+  // same protocol as test 1: the same test
+  EXPECT_EQ(r.result.ticks, g_drained.result.ticks);
+  EXPECT_EQ(fmt9(r.result.phi_peak), fmt9(g_drained.result.phi_peak));
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_protocol_rig");
+  ros::NodeHandle nh, pnh("~");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  if (!pnh.getParam("protocols", g_protocols) || !pnh.getParam("sample", g_sample)) {
+    std::fprintf(stderr, "test_protocol_rig: ~protocols and ~sample must be set (protocol_rig.test)\n");
+    return 2;
+  }
+  char tmpl[] = "/tmp/vt_protocol_rig_XXXXXX";
+  const char* dir = mkdtemp(tmpl);
+  if (!dir) return 2;
+  g_tmp = dir;
+  int rc = 0;
+  {
+    Rig rig;
+    g_rig = &rig;
+    rc = RUN_ALL_TESTS();
+    g_rig = nullptr;
+  }
+  std::error_code ec;
+  fs::remove_all(g_tmp, ec);
+  spinner.stop();
+  ros::shutdown();
+  return rc;
+}
