@@ -267,10 +267,11 @@ void parse_balanced(const Section& stop, StopCriteria& c) {
 }
 
 void parse_stop(const Section& stage, StageType type, StopCriteria& stop) {
-  const char* all = "mean_stress, axial_strain, steps, ufr_below, softening, balanced";
+  const char* all = "mean_stress, axial_strain, steps, ufr_below, softening, balanced, deviator_below";
   require(stage.has("stop"), stage.path("stop"), std::string("required: give at least one of ") + all);
   const Section s(stage.get("stop"), stage.path("stop"),
-                  {"mean_stress", "axial_strain", "steps", "ufr_below", "softening", "balanced"});
+                  {"mean_stress", "axial_strain", "steps", "ufr_below", "softening", "balanced", "deviator_below"});
+  if (s.has("deviator_below")) stop.deviator_below = s.number("deviator_below");
   if (s.has("softening")) {
     stop.softening = s.number("softening");
     require(*stop.softening > 0.0 && *stop.softening < 1.0, s.path("softening"),
@@ -278,7 +279,7 @@ void parse_stop(const Section& stage, StageType type, StopCriteria& stop) {
   }
   if (s.has("balanced")) {
     require(protocol::uses_servo(type), s.path("balanced"),
-            "only for servo stages (isotropic_consolidation, drained_shear)");
+            "only for servo stages (isotropic_consolidation, drained_shear, drained_unload)");
     parse_balanced(s, stop);
   }
   if (s.has("mean_stress")) stop.mean_stress = positive(s, "mean_stress");
@@ -290,7 +291,7 @@ void parse_stop(const Section& stage, StageType type, StopCriteria& stop) {
             "must be an integer > 0, got " + std::to_string(*stop.steps));
   }
   require(stop.mean_stress || stop.axial_strain || stop.steps || stop.ufr_below || stop.softening ||
-              stop.balanced,
+              stop.balanced || stop.deviator_below,
           s.path(), std::string("needs at least one of ") + all);
 }
 
@@ -308,7 +309,7 @@ StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
     st.confining_pressure = positive(s, "confining_pressure");
   } else {
     require(!s.has("confining_pressure"), s.path("confining_pressure"),
-            "only for servo stages (isotropic_consolidation, drained_shear)");
+            "only for servo stages (isotropic_consolidation, drained_shear, drained_unload)");
   }
 
   const bool has_dimless = s.has("strain_rate_dimensionless");
@@ -329,8 +330,8 @@ StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
   }
 
   if (s.has("axial_axis")) {
-    require(protocol::is_shear(st.type), s.path("axial_axis"),
-            "only allowed for drained_shear and undrained_shear stages");
+    require(protocol::is_shear(st.type) || st.type == StageType::DrainedUnload, s.path("axial_axis"),
+            "only allowed for drained_shear, undrained_shear and drained_unload stages");
     const std::string a = s.string("axial_axis");
     const std::string l = lower(a);
     require(l == "x" || l == "y" || l == "z", s.path("axial_axis"),

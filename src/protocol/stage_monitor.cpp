@@ -22,8 +22,14 @@ std::string StageMonitor::check(const TickSample& s) {
     r << "mean stress " << s.p << " Pa >= " << *c.mean_stress << " Pa";
     return r.str();
   }
-  if (c.axial_strain && s.eps_a >= *c.axial_strain) {
+  // Unloading extends the axial axis: its axial_strain criterion is on |eps_a|.
+  const double eps = stage_.type == StageType::DrainedUnload ? -s.eps_a : s.eps_a;
+  if (c.axial_strain && eps >= *c.axial_strain) {
     r << "axial strain " << s.eps_a << " >= " << *c.axial_strain;
+    return r.str();
+  }
+  if (c.deviator_below && s.q <= *c.deviator_below) {
+    r << "deviator q " << s.q << " Pa <= " << *c.deviator_below << " Pa";
     return r.str();
   }
   if (c.softening && q_peak_ > 0.0 && s.q <= (1.0 - *c.softening) * q_peak_) {

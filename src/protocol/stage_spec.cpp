@@ -4,7 +4,8 @@ namespace vt::protocol {
 
 namespace {
 const StageType kAll[] = {StageType::IsotropicCompression, StageType::IsotropicConsolidation,
-                          StageType::DrainedShear, StageType::UndrainedShear, StageType::Relax};
+                          StageType::DrainedShear, StageType::UndrainedShear, StageType::DrainedUnload,
+                          StageType::Relax};
 }  // namespace
 
 const char* to_string(StageType t) {
@@ -13,6 +14,7 @@ const char* to_string(StageType t) {
     case StageType::IsotropicConsolidation: return "isotropic_consolidation";
     case StageType::DrainedShear: return "drained_shear";
     case StageType::UndrainedShear: return "undrained_shear";
+    case StageType::DrainedUnload: return "drained_unload";
     case StageType::Relax: return "relax";
   }
   return "?";
@@ -33,7 +35,9 @@ std::string stage_type_names() {
   return s;
 }
 
-bool uses_servo(StageType t) { return t == StageType::IsotropicConsolidation || t == StageType::DrainedShear; }
+bool uses_servo(StageType t) {
+  return t == StageType::IsotropicConsolidation || t == StageType::DrainedShear || t == StageType::DrainedUnload;
+}
 bool is_shear(StageType t) { return t == StageType::DrainedShear || t == StageType::UndrainedShear; }
 
 double StageSpec::rate(double t0) const {
@@ -62,9 +66,10 @@ StageBoundary stage_boundary(const StageSpec& st, double t0) {
       for (int i = 0; i < 3; ++i) b.servo[i] = true, b.target[i] = target;
       break;
     case StageType::DrainedShear:
+    case StageType::DrainedUnload:
       for (int i = 0; i < 3; ++i)
         if (i != ax) b.servo[i] = true, b.target[i] = target;
-      b.open_rate[ax] = r;
+      b.open_rate[ax] = st.type == StageType::DrainedShear ? r : -r;
       break;
     case StageType::UndrainedShear:
       for (int i = 0; i < 3; ++i) b.open_rate[i] = i == ax ? r : -0.5 * r;

@@ -16,6 +16,7 @@ enum class StageType {
   IsotropicConsolidation,  ///< servo holds every axis at confining_pressure
   DrainedShear,            ///< axial rate open loop, lateral axes servo-held at confining_pressure
   UndrainedShear,          ///< axial compression at constant volume (lateral = -axial/2)
+  DrainedUnload,           ///< axial EXTENSION at the rate (open loop), lateral axes servo-held
   Relax                    ///< no boundary motion (balancing cycles)
 };
 
@@ -46,6 +47,7 @@ struct StopCriteria {
   /// (a fraction in (0, 1), e.g. 0.2 = 20 % below the peak).
   std::optional<double> softening;
   std::optional<BalanceCriterion> balanced;  ///< servo stages only
+  std::optional<double> deviator_below;      ///< q <= this [Pa] (e.g. the end of an unloading)
 };
 
 struct StageSpec {
@@ -79,6 +81,8 @@ struct StageBoundary {
 ///   isotropic_consolidation every axis servo-held at confining_pressure;
 ///   drained_shear           axial axis open loop at +rate, the two others
 ///                           servo-held at confining_pressure;
+///   drained_unload          like drained_shear with the axial rate reversed
+///                           (extension: the deviator falls);
 ///   undrained_shear         axial +rate, lateral -rate/2: the log strains sum
 ///                           to zero, so the cell volume is constant (to
 ///                           round-off when each step scales L_i by
