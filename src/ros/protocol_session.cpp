@@ -12,6 +12,7 @@
 #include "virtual_triaxial/GetInfo.h"
 #include "virtual_triaxial/LoadSample.h"
 #include "virtual_triaxial/ReleaseAxes.h"
+#include "virtual_triaxial/SaveSample.h"
 #include "virtual_triaxial/SetConfiningPressure.h"
 #include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/SetStrainRate.h"
@@ -299,6 +300,15 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   }
   out.steps = static_cast<std::int64_t>(tick_ - start) * n;
   report.steps += out.steps;
+  if (!checkpoint_dir_.empty()) {  // the rig is paused: the state after the stage, restartable bit for bit
+    virtual_triaxial::SaveSample save;
+    save.request.path = checkpoint_dir_ + "/after_" + std::to_string(index) + "_" + st.name + ".h5";
+    try {
+      call("save_sample", save);
+    } catch (const RigError& e) {
+      ROS_WARN("test_protocol_node: checkpoint: %s", e.what());
+    }
+  }
   report.stages.push_back(out);
   if (protocol::is_shear(st.type)) report.shear = shear.summary();
   ROS_INFO("test_protocol_node: [%s] done after %lld steps: %s", st.name.c_str(), static_cast<long long>(out.steps),

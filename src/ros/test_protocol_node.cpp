@@ -154,6 +154,11 @@ void TestProtocolNode::execute(GoalHandle gh) {
   ticks_.clear();
   tick_queue_.clear();
   ProtocolSession session(nh_, servo_, ::ros::this_node::getName(), rig_timeout_);
+  {
+    std::error_code ec;
+    fs::create_directories(dir / "checkpoints", ec);
+    if (!ec) session.set_checkpoint_dir((dir / "checkpoints").string());
+  }
   SessionLinks links;
   links.wait_tick = [this](std::uint64_t t) { return wait_tick(t); };
   links.stop_request = [this]() -> const char* {

@@ -9,7 +9,10 @@
 //     summary's `ticks`), consecutive ticks, strictly rising simulation-time
 //     stamps; servo_state, protocol_status, cell_command, /clock and the
 //     servo's parameter_updates are there too;
-//   - no process of the rig is left running (its master port is free).
+//   - no process of the rig is left running (its master port is free);
+//   - the checkpoint saved after the consolidation stage continues bit for
+//     bit: triax_run on a protocol holding only the shear stage, started from
+//     that checkpoint, prints the same phi_peak, eps_peak and e0 as the rig.
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -113,6 +116,8 @@ TEST_F(RigScript, CompletesAndLeavesOneOutputFolder) {
                         "plots/eps_v_eps_a.png", "plots/q_p_stress_path.png", "plots/e_log_p.png",
                         "plots/I_mom_eps_a.png", "plots/kinetic_energy_eps_a.png", "ros_home"})
     EXPECT_TRUE(fs::exists(out_ / f)) << f;
+  EXPECT_TRUE(fs::exists(out_ / "checkpoints/after_0_consolidation.h5"));
+  EXPECT_TRUE(fs::exists(out_ / "checkpoints/after_1_shear.h5"));
   ASSERT_FALSE(bags_.empty()) << "no rig_*.bag in " << out_;
 }
 
@@ -153,6 +158,38 @@ TEST_F(RigScript, NoRigProcessIsLeftBehind) {
   const std::string cmd = "ss -ltn 2>/dev/null | grep -q ':" + port + " '";
   EXPECT_NE(std::system(cmd.c_str()), 0) << "something still listens on port " << port;
   EXPECT_NE(std::system(("pgrep -f '[r]osmaster.*" + port + "' > /dev/null").c_str()), 0);
+}
+
+std::string json_field(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\":([^,}]+)"))) return "(missing " + key + ")";
+  return m[1];
+}
+
+TEST_F(RigScript, TheConsolidationCheckpointContinuesBitForBit) {
+  ASSERT_EQ(code_, 0);
+  const fs::path ckpt = out_ / "checkpoints/after_0_consolidation.h5";
+  ASSERT_TRUE(fs::exists(ckpt));
+  // The shear stage of tests/data/protocols/rig_script_mini.yaml alone.
+  const fs::path proto = out_ / "shear_from_checkpoint.yaml";
+  {
+    std::ofstream y(proto);
+    y << "particles: {sample_file: " << ckpt.string() << "}\n"
+      << "material: {friction: 0.5}\ndamping: {model: OD, ratio: 0.003}\ntime_step_ratio: 0.3\n"
+      << "control: {interval: 10, quasi_static_threshold: 1.0e-3,\n"
+      << "  servo: {strategy: pid, gain: 1.0, ki: 0.6, max_dimensionless_rate: 1.0e-4}}\n"
+      << "stages:\n  - {name: shear, type: drained_shear, confining_pressure: 100.0e3,\n"
+      << "     strain_rate_dimensionless: 1.0e-5, axial_axis: z, stop: {axial_strain: 0.01}}\n"
+      << "output: {interval: 200, progress_seconds: 5.0}\n";
+  }
+  const fs::path json = out_ / "shear_from_checkpoint.json";
+  const std::string cmd = "OMP_NUM_THREADS=1 '" VT_PROGRAM_DIR "/triax_run' '" +
+                          proto.string() + "' --quiet --out '" + (out_ / "shear.h5").string() + "' > '" +
+                          json.string() + "' 2>/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const std::string headless = slurp(json);
+  for (const char* key : {"phi_peak_deg", "eps_peak", "e0", "mean_moment_index_to_peak", "q_peak_pa"})
+    EXPECT_EQ(json_field(headless, key), json_field(summary_, key)) << key;
 }
 
 }  // namespace

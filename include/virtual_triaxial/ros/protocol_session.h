@@ -47,6 +47,8 @@ class ProtocolSession {
   /// failures during the run end up in the report's verdict.
   protocol::RunReport run(const io::SceneConfig& scene, const std::string& protocol_path,
                           io::ResultsRecorder& recorder, SessionLinks& links);
+  /// Folder for the per-stage checkpoints after_<i>_<stage>.h5 ("" = none).
+  void set_checkpoint_dir(std::string dir) { checkpoint_dir_ = std::move(dir); }
   /// Specimen facts for the summary (valid after run()).
   const io::RunContext& context() const { return ctx_; }
   /// Verdict word for the action result ("preempted" is not a RunReport verdict).
@@ -74,6 +76,7 @@ class ProtocolSession {
   std::uint64_t tick_ = 0;  ///< last tick answered (or the tick the rig paused at)
   std::string verdict_word_ = "completed";
   std::string protocol_name_;
+  std::string checkpoint_dir_;
 };
 
 }  // namespace vt::ros

@@ -39,7 +39,10 @@
 // eps_peak, phi_end, e0, mean I_mom to the peak, quasi-static verdict against
 // control.quasi_static_threshold, runtime, steps, ticks) goes to
 // <output_dir>/results.h5 (time series of the sample ticks + attributes), to
-// <output_dir>/summary.json and into the action result. The rig is left
+// <output_dir>/summary.json and into the action result. After every stage
+// (also a preempted or aborted one) the paused rig saves its state to
+// <output_dir>/checkpoints/after_<i>_<stage>.h5, from which a test continues
+// bit for bit (e.g. a protocol whose particles.sample_file is that file). The rig is left
 // paused with every axis open loop at rate 0.
 // Bad goals (no or two protocols, a protocol that fails validation, a
 // control.interval that differs from dem_node's publish_every) are refused
