@@ -49,7 +49,12 @@
 #include "virtual_triaxial/Strain.h"
 #include "virtual_triaxial/Stress.h"
 
+#include "support/rig_test_helpers.h"
+
 namespace vtm = virtual_triaxial;
+
+using vt::rostest::starts_with;
+using vt::rostest::wait_until;
 
 namespace {
 
@@ -58,17 +63,7 @@ constexpr double kEpsPrime = 1e-5;       // axial eps' = rate * T0
 constexpr std::uint32_t kTicks = 1500;   // control ticks per run (x publish_every 2 = 3000 steps)
 const char* const kServo = "/servo";     // the servo's owner name (its node name)
 
-bool starts_with(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
 
-/// Polls `pred` every 20 ms of wall time; false after `seconds`.
-bool wait_until(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return pred();
-}
 
 struct Series {
   std::vector<vtm::Stress> stress;
@@ -88,8 +83,7 @@ class Rig {
 
   template <class S>
   bool call(const std::string& name, S& srv) {
-    if (!wait_until([&] { return ros::service::exists(name, false); }, 60.0)) return false;
-    return ros::service::call(name, srv);
+    return vt::rostest::call_service(name, srv, 60.0);
   }
 
   vtm::GetInfo::Response info() {

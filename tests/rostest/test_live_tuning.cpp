@@ -33,21 +33,18 @@
 #include "virtual_triaxial/Step.h"
 #include "virtual_triaxial/Stress.h"
 
+#include "support/rig_test_helpers.h"
+
 namespace vtm = virtual_triaxial;
 using dynamic_reconfigure::Config;
+
+using vt::rostest::starts_with;
+using vt::rostest::wait_until;
 
 namespace {
 
 constexpr double kTarget = 100e3;  // servo target [Pa]
 
-bool wait_until(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return pred();
-}
 
 /// Value of a double / string parameter in a dynamic_reconfigure Config (NaN / "" if absent).
 double dbl(const Config& c, const std::string& name) {
@@ -74,8 +71,7 @@ class Rig {
 
   template <class S>
   bool call(const std::string& name, S& srv) {
-    if (!wait_until([&] { return ros::service::exists(name, false); }, 60.0)) return false;
-    return ros::service::call(name, srv);
+    return vt::rostest::call_service(name, srv, 60.0);
   }
 
   vtm::GetInfo::Response info() {

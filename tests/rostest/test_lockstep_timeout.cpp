@@ -17,23 +17,19 @@
 #include "virtual_triaxial/GetInfo.h"
 #include "virtual_triaxial/Step.h"
 
+#include "support/rig_test_helpers.h"
+
 namespace vtm = virtual_triaxial;
+
+using vt::rostest::starts_with;
+using vt::rostest::wait_until;
 
 namespace {
 
-bool wait_until(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return pred();
-}
 
 template <class S>
 bool call(const std::string& name, S& srv) {
-  if (!wait_until([&] { return ros::service::exists(name, false); }, 60.0)) return false;
-  return ros::service::call(name, srv);
+    return vt::rostest::call_service(name, srv, 60.0);
 }
 
 vtm::GetInfo::Response info(const std::string& ns) {

@@ -54,9 +54,14 @@
 #include "virtual_triaxial/Strain.h"
 #include "virtual_triaxial/Stress.h"
 
+#include "support/rig_test_helpers.h"
+
 namespace vtm = virtual_triaxial;
 namespace fs = std::filesystem;
 using Client = actionlib::SimpleActionClient<vtm::RunTestAction>;
+
+using vt::rostest::starts_with;
+using vt::rostest::wait_until;
 
 namespace {
 
@@ -73,14 +78,6 @@ std::string g_protocols, g_sample, g_tmp;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-bool wait_until(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
-  }
-  return pred();
-}
 
 std::string slurp(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -134,8 +131,7 @@ class Rig {
 
   template <class S>
   bool call(const std::string& name, S& srv) {
-    if (!wait_until([&] { return ros::service::exists(name, false); }, 30.0)) return false;
-    return ros::service::call(name, srv);
+    return vt::rostest::call_service(name, srv, 30.0);
   }
 
   vtm::GetInfo::Response info() {
