@@ -18,29 +18,48 @@ Coordination mechanical_coordination(std::size_t n_particles,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts,
                                      const std::vector<double>& mass) {
   // Section 4.5: particles with fewer than 3 contacts are idle; their
-  // contacts are idle too; repeat until no more particles are removed.
+  // contacts are idle too; repeat until no more particles are removed. The
+  // particles that remain form the 3-core of the contact graph, which does
+  // not depend on the order of removal, so one peeling pass with a work list
+  // (O(N + C)) gives the same set as repeated sweeps.
+  const std::size_t nc = contacts.size();
   std::vector<std::int32_t> degree(n_particles, 0);
   for (const auto& c : contacts) {
     ++degree[static_cast<std::size_t>(c.first)];
     ++degree[static_cast<std::size_t>(c.second)];
   }
+  // Contacts of each particle (CSR).
+  std::vector<std::int32_t> start(n_particles + 1, 0), incident(2 * nc);
+  for (std::size_t i = 0; i < n_particles; ++i) start[i + 1] = start[i] + degree[i];
+  {
+    std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < nc; ++k) {
+      incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(contacts[k].first)]++)] = static_cast<std::int32_t>(k);
+      incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(contacts[k].second)]++)] = static_cast<std::int32_t>(k);
+    }
+  }
   std::vector<char> idle(n_particles, 0);
-  std::vector<char> contact_alive(contacts.size(), 1);
-  bool changed = true;
-  while (changed) {
-    changed = false;
-    for (std::size_t i = 0; i < n_particles; ++i)
-      if (!idle[i] && degree[i] < 3) {
-        idle[i] = 1;
-        changed = true;
-      }
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
+  std::vector<char> contact_alive(nc, 1);
+  std::vector<std::int32_t> work;
+  for (std::size_t i = 0; i < n_particles; ++i)
+    if (degree[i] < 3) {
+      idle[i] = 1;
+      work.push_back(static_cast<std::int32_t>(i));
+    }
+  while (!work.empty()) {
+    const auto i = static_cast<std::size_t>(work.back());
+    work.pop_back();
+    for (std::int32_t s = start[i]; s < start[i + 1]; ++s) {
+      const auto k = static_cast<std::size_t>(incident[static_cast<std::size_t>(s)]);
       if (!contact_alive[k]) continue;
+      contact_alive[k] = 0;
       const auto a = static_cast<std::size_t>(contacts[k].first), b = static_cast<std::size_t>(contacts[k].second);
-      if (idle[a] || idle[b]) {
-        contact_alive[k] = 0;
-        --degree[a];
-        --degree[b];
+      --degree[a];
+      --degree[b];
+      const std::size_t j = a == i ? b : a;
+      if (!idle[j] && degree[j] < 3) {
+        idle[j] = 1;
+        work.push_back(static_cast<std::int32_t>(j));
       }
     }
   }

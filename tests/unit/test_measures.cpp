@@ -123,3 +123,54 @@ TEST(Measures, IterativeIdleRemoval) {
   EXPECT_DOUBLE_EQ(none.mechanical, 0.0);
   EXPECT_DOUBLE_EQ(none.idle_mass_fraction, 1.0);
 }
+
+// The idle-particle removal of section 4.5 defined literally (sweep: mark
+// every particle with < 3 live contacts idle, kill their contacts, repeat
+// until nothing changes) against the library's one-pass peeling, on random
+// contact graphs around the threshold (mean degree 2-6): same active set,
+// same active contacts, same idle mass, exactly.
+TEST(Measures, PeelingEqualsTheIterativeSweepDefinition) {
+  std::uint64_t state = 12345;
+  auto next = [&]() {  // xorshift64*, deterministic
+    state ^= state >> 12;
+    state ^= state << 25;
+    state ^= state >> 27;
+    return state * 2685821657736338717ULL;
+  };
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t n = 5 + next() % 200;
+    const std::size_t nc = n * (1 + next() % 3);
+    std::vector<std::pair<std::int32_t, std::int32_t>> contacts;
+    for (std::size_t k = 0; k < nc; ++k) {
+      const auto a = static_cast<std::int32_t>(next() % n), b = static_cast<std::int32_t>(next() % n);
+      if (a != b) contacts.emplace_back(a, b);
+    }
+    std::vector<double> mass(n);
+    for (double& m : mass) m = 1.0 + static_cast<double>(next() % 1000) / 100.0;
+    // Reference: the sweep.
+    std::vector<int> degree(n, 0);
+    for (const auto& c : contacts) ++degree[static_cast<std::size_t>(c.first)], ++degree[static_cast<std::size_t>(c.second)];
+    std::vector<char> idle(n, 0), alive(contacts.size(), 1);
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t i = 0; i < n; ++i)
+        if (!idle[i] && degree[i] < 3) idle[i] = 1, changed = true;
+      for (std::size_t k = 0; k < contacts.size(); ++k) {
+        const auto a = static_cast<std::size_t>(contacts[k].first), b = static_cast<std::size_t>(contacts[k].second);
+        if (alive[k] && (idle[a] || idle[b])) alive[k] = 0, --degree[a], --degree[b];
+      }
+    }
+    std::int64_t active = 0, live = 0;
+    double idle_mass = 0, total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      total += mass[i];
+      if (idle[i]) idle_mass += mass[i];
+      else ++active;
+    }
+    for (char a : alive) live += a;
+    const Coordination c = mechanical_coordination(n, contacts, mass);
+    ASSERT_EQ(c.active_particles, active) << "trial " << trial;
+    ASSERT_EQ(c.active_contacts, live) << "trial " << trial;
+    ASSERT_EQ(c.idle_mass_fraction, idle_mass / total) << "trial " << trial;
+  }
+}
