@@ -2,7 +2,12 @@
 // sheared at constant volume (DESIGN §8: flat from 1e3 to 1e5 particles).
 //
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
-//               [--skin-ratio X] [--cache DIR]
+//               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
+//
+// --shape spheroid: prolate spheroids of aspect ratio K (default 1.2) whose
+// nominal (equal-volume) radii are the sphere radii below (CloudRequest::
+// aspect_ratio); everything else is the same, so the cost per particle-step
+// compares directly with the sphere run.
 //
 // Preparation (all hardware threads, progress on stderr), material rho 2650,
 // E 70 GPa, nu 0.3, mu 0.5, c_t 0.3, OD damping xi = 0.02:
@@ -89,12 +94,13 @@ constexpr double kShearRate = 1e-5;        // dimensionless axial rate during ti
 int usage(const char* msg) {
   if (msg) std::cerr << "triax_bench: " << msg << "\n";
   std::cerr << "usage: triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]\n"
-               "                   [--skin-ratio X] [--cache DIR]\n"
+               "                   [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]\n"
                "  N >= 100 particles, T >= 1 OpenMP threads, S >= 1 timed steps\n"
                "  (default S = max(200, 3e7/N)), K = random seed (default 1),\n"
                "  --no-sort: keep the cloud generator's storage order,\n"
                "  X > 0: Verlet skin / L0 during timing (default: SimulationSettings),\n"
-               "  DIR: keep/reuse the prepared sample there (skips the preparation)\n";
+               "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
+               "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n";
   return 2;
 }
 
@@ -145,6 +151,8 @@ std::uint64_t fingerprint(const Simulation& sim) {
   f.add(p.frac.data(), p.frac.size() * sizeof(Vec3));
   f.add(p.velocity.data(), p.velocity.size() * sizeof(Vec3));
   f.add(p.omega.data(), p.omega.size() * sizeof(Vec3));
+  if (sim.neighbor_list().has_spheroids())  // spheres: unchanged fingerprint
+    f.add(p.orientation.data(), p.orientation.size() * sizeof(Quaternion));
   for (const ContactHistory& c : sim.neighbor_list().histories(p)) {
     f.add(&c.id_a, sizeof c.id_a);
     f.add(&c.id_b, sizeof c.id_b);
@@ -194,7 +202,7 @@ bool run_measured(Simulation& sim, int n) {
 // cached state equals a freshly prepared one bit for bit as long as the
 // preparation and the physics of the core are unchanged; bump kCacheVersion
 // when either changes.
-constexpr std::uint64_t kCacheVersion = 2;
+constexpr std::uint64_t kCacheVersion = 3;  // 3: ContactHistory carries the spheroid solver cache
 
 template <class T>
 void put(std::FILE* f, const T& v) {
@@ -316,6 +324,8 @@ int main(int argc, char** argv) {
   bool sort = true;
   double skin_ratio = -1.0;
   std::string cache_dir;
+  bool spheroids = false;
+  double aspect = 1.2;
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
     const char* v = a + 1 < argc ? argv[a + 1] : nullptr;
@@ -341,6 +351,16 @@ int main(int argc, char** argv) {
       if (!v || !*v) return usage("--cache needs a directory");
       cache_dir = v;
       ++a;
+    } else if (k == "--shape") {
+      const std::string shape = v ? v : "";
+      if (shape != "sphere" && shape != "spheroid") return usage("--shape needs sphere or spheroid");
+      spheroids = shape == "spheroid";
+      ++a;
+    } else if (k == "--aspect") {
+      char* end = nullptr;
+      aspect = v ? std::strtod(v, &end) : -1.0;
+      if (!v || *end != '\0' || !(aspect >= 1.0 && aspect < 10.0)) return usage("--aspect needs a number in [1, 10)");
+      ++a;
     } else if (k == "--no-sort") {
       sort = false;
     } else if (k == "-h" || k == "--help") {
@@ -362,7 +382,8 @@ int main(int argc, char** argv) {
   const std::string cache_file =
       cache_dir.empty() ? std::string()
                         : cache_dir + "/triax_bench_n" + std::to_string(n) + "_seed" + std::to_string(seed) +
-                              (sort ? "_sorted" : "_unsorted") + ".state";
+                              (sort ? "_sorted" : "_unsorted") +
+                              (spheroids ? "_spheroid" + std::to_string(aspect) : std::string()) + ".state";
   if (!cache_file.empty()) {
     SimulationState st;
     if (load_state(cache_file, st, prep_steps, prep_seconds)) {
@@ -382,8 +403,9 @@ int main(int argc, char** argv) {
     req.density = mat.density;
     req.void_ratio = 2.0;
     req.seed = static_cast<std::uint64_t>(seed);
+    if (spheroids) req.aspect_ratio = aspect;
     Cloud cloud = generate_cloud(req);
-    std::cerr << "[prep] cloud of " << n << " spheres in " << seconds_since(t_prep) << " s ("
+    std::cerr << "[prep] cloud of " << n << (spheroids ? " spheroids" : " spheres") << " in " << seconds_since(t_prep) << " s ("
               << cloud.box_growths << " box growths)\n";
     if (sort) spatial_sort(cloud.particles, cloud.cell);
     SimulationSettings settings;
@@ -432,6 +454,8 @@ int main(int argc, char** argv) {
   std::printf("threads: %lld\n", threads);
   std::printf("steps: %lld\n", steps);
   std::printf("spatial_sort: %s\n", sort ? "yes" : "no");
+  std::printf("shape: %s\n", spheroids ? "spheroid" : "sphere");
+  if (spheroids) std::printf("aspect_ratio: %g\n", aspect);
   std::printf("preparation_seconds: %.2f%s\n", prep_seconds, cached ? " (when cached)" : "");
   std::printf("preparation_steps: %lld\n", static_cast<long long>(prep_steps));
   std::printf("void_ratio: %.4f\n", m.void_ratio);
@@ -441,6 +465,14 @@ int main(int argc, char** argv) {
   std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
   std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));
   std::printf("mean_stress_pa: %.1f\n", m.p);
+  if (spheroids) {
+    const SpheroidContactStats& cs = sim->spheroid_contact_stats();
+    std::printf("spheroid_contact_solves: %llu\n", static_cast<unsigned long long>(cs.solves));
+    std::printf("spheroid_iterations_per_solve: %.3f\n",
+                cs.solves ? static_cast<double>(cs.iterations) / static_cast<double>(cs.solves) : 0.0);
+    std::printf("spheroid_contact_fallbacks: %llu\n", static_cast<unsigned long long>(cs.fallbacks));
+    std::printf("spheroid_contact_failures: %llu\n", static_cast<unsigned long long>(cs.failures));
+  }
   std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
   std::printf("wall_seconds: %.3f\n", wall);
   std::printf("cpu_seconds: %.3f\n", cpu);

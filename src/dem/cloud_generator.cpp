@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "virtual_triaxial/dem/random_stream.h"
 
@@ -80,11 +81,51 @@ bool try_place_all(const CloudRequest& req, const std::vector<double>& sorted, c
 
 }  // namespace
 
+Quaternion random_orientation(RandomStream& rng) {
+  const double u1 = rng.uniform(), u2 = 2.0 * M_PI * rng.uniform(), u3 = 2.0 * M_PI * rng.uniform();
+  const double s1 = std::sqrt(1.0 - u1), s2 = std::sqrt(u1);
+  return {s2 * std::cos(u3), s1 * std::sin(u2), s1 * std::cos(u2), s2 * std::sin(u3)};
+}
+
+namespace {
+
+/// Spheroid cloud: the sphere cloud of the bounding radii a = r k^(2/3),
+/// at the void ratio that makes the spheroids' void ratio the requested one,
+/// then each sphere replaced by a spheroid (a, a/k) of random orientation.
+Cloud generate_spheroid_cloud(const CloudRequest& req) {
+  const double k = req.aspect_ratio;
+  const double grow = std::cbrt(k * k);  // a / r
+  CloudRequest spheres = req;
+  spheres.aspect_ratio = 1.0;
+  for (double& r : spheres.radii) r *= grow;
+  // V_box = (1 + e) V_spheroids = (1 + e) V_bounding / k^2
+  spheres.void_ratio = (1.0 + req.void_ratio) / (k * k) - 1.0;
+  if (!(spheres.void_ratio > 0.0))
+    throw std::invalid_argument("initial_void_ratio: too small for the bounding spheres of aspect " +
+                                std::to_string(k) + " spheroids (need (1 + e) > k^2)");
+  Cloud c = generate_cloud(spheres);
+  RandomStream rng(req.seed ^ 0x5851f42d4c957f2dULL);
+  const Particles& p = c.particles;
+  Particles out;
+  out.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double a = p.radius[i];
+    out.add_spheroid(p.id[i], a, a / k, req.density, p.frac[i], random_orientation(rng), {}, {}, p.material[i]);
+  }
+  c.particles = std::move(out);
+  return c;
+}
+
+}  // namespace
+
 Cloud generate_cloud(const CloudRequest& req) {
   if (req.radii.size() < 2) throw std::invalid_argument("particles.count: at least 2 particles are needed");
   for (double r : req.radii)
     if (!(r > 0.0 && std::isfinite(r))) throw std::invalid_argument("particles.radius: must be > 0");
   if (!(req.void_ratio > 0.0)) throw std::invalid_argument("initial_void_ratio: must be > 0");
+  if (!(req.aspect_ratio >= 1.0 && std::isfinite(req.aspect_ratio)))
+    throw std::invalid_argument("particles.aspect_ratio: must be >= 1 (prolate spheroids; 1 = spheres)");
+  if (req.aspect_ratio != 1.0) return generate_spheroid_cloud(req);
   for (int a = 0; a < 3; ++a)
     if (!(req.aspect[a] > 0.0)) throw std::invalid_argument("cell.aspect: must be > 0");
   std::vector<double> sorted = req.radii;

@@ -19,6 +19,7 @@ void ContactSums::add(const ContactSums& o) {
   sliding += o.sliding;
   sum_force += o.sum_force;
   sum_force2 += o.sum_force2;
+  spheroid.add(o.spheroid);
 }
 
 void ContactForces::Scratch::reserve(std::size_t n) {
@@ -53,6 +54,11 @@ struct PairInputs {
   Vec3* spring;
   PairState* state;
   std::uint8_t* active;
+  // spheroid path only (null/unused for spheres)
+  const Vec3* axes;
+  const Quaternion* orient;
+  const Shape* shape;
+  SpheroidPairState* sph;
   Mat3 h, lgrad;
   HertzMindlin law;
   double dt;
@@ -161,6 +167,139 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   return acc;
 }
 
+/// Pairs owned by particles [i_begin, i_end) when the particles include
+/// spheroids. Pass 1 keeps the pairs whose bounding spheres (radius a)
+/// overlap and drops the solver cache of every other pair (so the cache of a
+/// pair depends only on its own history while in reach: a restart, which
+/// rebuilds the list, continues bit for bit). Pass 2, in list order: a
+/// sphere-sphere pair takes the closed form (delta = R_i + R_j - |d|,
+/// n = d/|d|, contact point x_i + (R_i - delta/2) n); any pair with a
+/// spheroid is first tested with the separation certificate g(n) < 0 along
+/// its last normal (or d/|d|), which proves it apart without iterating, and
+/// otherwise takes the common-normal solver (spheroid_contact.h, warm-started
+/// from the pair's cache; a sphere enters it as a spheroid with a = b = R).
+/// Then Hertz-Mindlin with R_i the average radius (a + 2b)/3 (eq. 104; R for
+/// a sphere) at the contact point c (relative to x_i):
+///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
+///   T_i = c x F_on_i,  T_j = (c - d) x F_on_j,
+/// so normal forces give moments on spheroids.
+template <bool Measure>
+ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
+                                    std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch,
+                                    double* c_dist2) {
+  const Mat3 h = in.h, lgrad = in.lgrad;
+  const HertzMindlin law = in.law;
+  const double dt = in.dt;
+  const std::int32_t e_begin = in.off[i_begin], e_end = in.off[i_end];
+
+  // Pass 1: bounding-sphere test for every listed pair.
+  std::int32_t nc = 0, ns = 0;
+  for (std::int32_t e = e_begin; e < e_end; ++e) {
+    const std::int32_t i = in.owner[e];
+    const std::int32_t j = in.partner[e];
+    Vec3 ds = in.frac[j] - in.frac[i];
+    ds.x -= std::nearbyint(ds.x);
+    ds.y -= std::nearbyint(ds.y);
+    ds.z -= std::nearbyint(ds.z);
+    const Vec3 d = h * ds;
+    const double dist2 = norm2(d);
+    const double reach = in.axes[i].x + in.axes[j].x;
+    const bool in_reach = dist2 < reach * reach;
+    c_entry[nc] = e;
+    c_branch[nc] = d;
+    c_dist2[nc] = dist2;
+    nc += in_reach ? 1 : 0;
+    if (!in_reach) in.sph[e].cache.reset();
+    s_entry[ns] = e;
+    ns += static_cast<std::int32_t>(in.active[e]) & static_cast<std::int32_t>(!in_reach);
+    in.active[e] = 0;  // contacts set it again in pass 2
+  }
+  for (std::int32_t k = 0; k < ns; ++k) {
+    const std::int32_t e = s_entry[k];
+    in.state[e] = PairState{};
+    in.spring[e] = Vec3{};
+    in.sph[e].torque_i = in.sph[e].torque_j = Vec3{};
+  }
+
+  // Pass 2: the pairs in reach, in list order.
+  ContactSums acc;
+  std::int64_t contacts = 0;
+  double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
+  for (std::int32_t c = 0; c < nc; ++c) {
+    const std::int32_t e = c_entry[c];
+    const std::int32_t i = in.owner[e];
+    const std::int32_t j = in.partner[e];
+    const Vec3 d = c_branch[c];
+    const bool sph_i = in.shape[i] == Shape::Spheroid, sph_j = in.shape[j] == Shape::Spheroid;
+    double delta;
+    Vec3 nrm, cpt;  // normal i -> j; contact point relative to x_i [m]
+    if (!sph_i && !sph_j) {
+      const double dist = std::sqrt(c_dist2[c]);
+      delta = in.rad[i] + in.rad[j] - dist;
+      nrm = (1.0 / dist) * d;
+      cpt = (in.rad[i] - 0.5 * delta) * nrm;
+    } else {
+      const Spheroid si = Spheroid::from_semi_axes(in.axes[i], in.orient[i]);
+      const Spheroid sj = Spheroid::from_semi_axes(in.axes[j], in.orient[j]);
+      SpheroidContactCache& cache = in.sph[e].cache;
+      // Separation certificate along the last normal (or the centre line):
+      // g(n) < 0 proves delta < 0, so no solve; the cache is kept as it is.
+      const Vec3 probe = cache.valid ? cache.normal : (1.0 / std::sqrt(c_dist2[c])) * d;
+      if (spheroid_gap_bound(si, sj, d, probe) < 0.0) {
+        delta = -1.0;
+      } else {
+        const SpheroidContact sc = detect_spheroid_contact(si, sj, d, &cache, &acc.spheroid);
+        delta = sc.overlap;
+        nrm = sc.normal;
+        cpt = sc.contact_point;
+      }
+    }
+    SpheroidPairState& sp = in.sph[e];
+    PairState& st = in.state[e];
+    if (!(delta > 0.0)) {  // in reach, not in contact
+      st = PairState{};
+      in.spring[e] = Vec3{};
+      sp.torque_i = sp.torque_j = Vec3{};
+      continue;
+    }
+    // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
+    const Vec3& ai = in.axes[i];
+    const Vec3& aj = in.axes[j];
+    const double ri = sph_i ? (ai.x + 2.0 * ai.y) / 3.0 : in.rad[i];
+    const double rj = sph_j ? (aj.x + 2.0 * aj.y) / 3.0 : in.rad[j];
+    const double r_eff = ri * rj / (ri + rj);
+    const Vec3 cj = cpt - d;  // contact point relative to x_j
+    const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d + cross(in.omg[j], cj) - cross(in.omg[i], cpt);
+    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
+    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
+    const Vec3& f = r.force_on_j;
+    st.force = f;
+    st.moment_axis = Vec3{};  // moments are in sp (the sphere gather is not used)
+    st.half_overlap = 0.5 * delta;
+    in.active[e] = 1;
+    sp.torque_i = cross(f, cpt);  // c x (-F_on_j)
+    sp.torque_j = cross(cj, f);
+    ++contacts;
+    vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
+    vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
+    vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
+    if (Measure) acc.elastic_energy += r.elastic_energy;
+    acc.friction_dissipation += r.friction_dissipation;
+    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(ai.y, aj.y));
+    acc.sliding += r.sliding ? 1 : 0;
+    if (Measure) {
+      const double f2 = norm2(f);
+      acc.sum_force2 += f2;
+      acc.sum_force += std::sqrt(f2);
+    }
+  }
+  acc.contacts = contacts;
+  acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
+  acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
+  acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
+  return acc;
+}
+
 }  // namespace
 
 ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
@@ -173,8 +312,13 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                       p.radius.data(),   list.offsets().data(), list.owners().data(),
                       pd.partner.data(), pd.spring.data(),      pd.state.data(),
-                      pd.active.data(),  cell.h(),              cell.velocity_gradient(),
-                      law,               dt};
+                      pd.active.data(),  p.semi_axes.data(),    p.orientation.data(),
+                      p.shape.data(),    pd.spheroid.data(),    cell.h(),
+                      cell.velocity_gradient(),                 law,
+                      dt};
+  const bool spheroids = list.has_spheroids();
+  if (spheroids && pd.spheroid.size() != pd.size())
+    throw std::logic_error("contact forces: neighbour list without spheroid pair states");
   ContactSums* sums = chunk_sums_.data();
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
@@ -199,10 +343,18 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
-      sums[c] = measure ? evaluate_pairs<true>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
-                                               mine.branch.data(), mine.dist2.data())
-                        : evaluate_pairs<false>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
-                                                mine.branch.data(), mine.dist2.data());
+      if (spheroids)
+        sums[c] = measure ? evaluate_pairs_spheroid<true>(in, i_begin, i_end, mine.entry.data(),
+                                                          mine.separated.data(), mine.branch.data(),
+                                                          mine.dist2.data())
+                          : evaluate_pairs_spheroid<false>(in, i_begin, i_end, mine.entry.data(),
+                                                           mine.separated.data(), mine.branch.data(),
+                                                           mine.dist2.data());
+      else
+        sums[c] = measure ? evaluate_pairs<true>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
+                                                 mine.branch.data(), mine.dist2.data())
+                          : evaluate_pairs<false>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
+                                                  mine.branch.data(), mine.dist2.data());
     }
     // (implicit barrier: every pair state is final)
 
@@ -212,26 +364,49 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     // zero force and moment (see evaluate_pairs), and f + 0, t + l * 0 leave
     // f and t unchanged bit for bit (a sum that starts at +0 and only adds or
     // subtracts is never -0), so the loop has no unpredictable branch.
+    if (spheroids) {
+      // Same order; the moments come from the spheroid pair states.
+      const SpheroidPairState* sps = pd.spheroid.data();
 #pragma omp for schedule(static, kChunkSize)
-    for (std::int32_t i = 0; i < ni; ++i) {
-      const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-      for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
-      Vec3 f{}, t{};
-      const double ri = rad[i];
-      std::int32_t g = goff[i];
-      const std::int32_t g_end = goff[i + 1];
-      for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
-        const PairState& s = ps[gcode[g] >> 2];
-        f += s.force;
-        t += (ri - s.half_overlap) * s.moment_axis;
+      for (std::int32_t i = 0; i < ni; ++i) {
+        Vec3 f{}, t{};
+        std::int32_t g = goff[i];
+        const std::int32_t g_end = goff[i + 1];
+        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
+          const std::int32_t e = gcode[g] >> 2;
+          f += ps[e].force;
+          t += sps[e].torque_j;
+        }
+        for (; g < g_end; ++g) {  // own entries, partners of higher id
+          const std::int32_t e = gcode[g] >> 2;
+          f -= ps[e].force;
+          t += sps[e].torque_i;
+        }
+        fout[i] = f;
+        tout[i] = t;
       }
-      for (; g < g_end; ++g) {  // own entries, partners of higher id
-        const PairState& s = ps[gcode[g] >> 2];
-        f -= s.force;
-        t += (ri - s.half_overlap) * s.moment_axis;
+    } else {
+#pragma omp for schedule(static, kChunkSize)
+      for (std::int32_t i = 0; i < ni; ++i) {
+        const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+        for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+        Vec3 f{}, t{};
+        const double ri = rad[i];
+        std::int32_t g = goff[i];
+        const std::int32_t g_end = goff[i + 1];
+        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
+          const PairState& s = ps[gcode[g] >> 2];
+          f += s.force;
+          t += (ri - s.half_overlap) * s.moment_axis;
+        }
+        for (; g < g_end; ++g) {  // own entries, partners of higher id
+          const PairState& s = ps[gcode[g] >> 2];
+          f -= s.force;
+          t += (ri - s.half_overlap) * s.moment_axis;
+        }
+        fout[i] = f;
+        tout[i] = t;
       }
-      fout[i] = f;
-      tout[i] = t;
     }
   }
 

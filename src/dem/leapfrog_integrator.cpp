@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/rigid_rotation.h"
 
 namespace vt::dem {
 
@@ -20,6 +21,7 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
                                           double dt) {
   dt_ = dt;
   alpha_ = alpha;
+  spheroids_ = p.has_spheroids();
   const std::size_t n = p.size();
   coef_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -34,40 +36,58 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   }
 }
 
-IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
-                                            const std::vector<Vec3>& force,
-                                            const std::vector<Vec3>& torque,
-                                            const std::vector<Vec3>& frac_at_build, bool measure) {
-  const std::size_t n = p.size();
-  const std::int32_t nchunks = chunk_count(n);
-  chunk_sums_.assign(static_cast<std::size_t>(nchunks), IntegrationSums{});
-  // Local copies and plain pointers: the stores below go through double*, which
-  // could otherwise alias the cell matrices and force reloads every particle.
-  // The per-particle constants come from one packed array (one stream
-  // instead of six). alpha dt is the same product the unpacked expression
-  // alpha * dt * (...) forms first.
-  const Mat3 hinv = cell.h_inverse();
-  const Mat3 h = cell.h();
+template <bool Spheroids>
+IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
+                                                  bool measure) const {
+  const Mat3 hinv = in.hinv;
+  const Mat3 h = in.h;
   const double dt = dt_;
-  Vec3* vel = p.velocity.data();
-  Vec3* omg = p.omega.data();
-  Vec3* frac = p.frac.data();
-  const Vec3* f_in = force.data();
-  const Vec3* t_in = torque.data();
-  const Vec3* s_build = frac_at_build.data();
+  Vec3* vel = in.vel;
+  Vec3* omg = in.omg;
+  Vec3* frac = in.frac;
+  const Vec3* f_in = in.f_in;
+  const Vec3* t_in = in.t_in;
+  const Vec3* s_build = in.s_build;
   const Coefficients* coef = coef_.data();
-  IntegrationSums* sums = chunk_sums_.data();
-
-#pragma omp parallel for schedule(static, 1)
-  for (std::int32_t c = 0; c < nchunks; ++c) {
-    IntegrationSums acc;
-    const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
-    for (std::size_t i = static_cast<std::size_t>(c) * kChunkSize; i < i_end; ++i) {
-      const Vec3 v_old = vel[i];
-      const Vec3 w_old = omg[i];
-      const Coefficients& k = coef[i];
-      const Vec3 v_new = k.decay * v_old + k.kick * f_in[i];
-      const Vec3 w_new = k.decay * w_old + k.kick_rot * t_in[i];
+  IntegrationSums acc;
+  for (std::size_t i = i_begin; i < i_end; ++i) {
+    const Vec3 v_old = vel[i];
+    const Vec3 w_old = omg[i];
+    const Coefficients& k = coef[i];
+    const Vec3 v_new = k.decay * v_old + k.kick * f_in[i];
+    Vec3 w_new;
+    if constexpr (Spheroids) {
+      if (in.shape[i] == Shape::Spheroid) {
+        // Rigid-body leapfrog (rigid_rotation.h): kick of L with the torque
+        // and damping alpha L (eq. 29), exact torque-free drift of q (eq. 43).
+        const Vec3 ib = in.inertia[i];
+        const Quaternion q_old = in.orient[i];
+        Quaternion q = q_old;
+        const Vec3 l_old = angular_momentum_world(q_old, w_old, ib);
+        Vec3 l_new = l_old;
+        advance_rotation(q, l_new, t_in[i], ib, alpha_[i], dt);
+        in.orient[i] = q;
+        w_new = angular_velocity_world(q, l_new, ib);
+        vel[i] = v_new;
+        omg[i] = w_new;
+        const Vec3 v_mid = 0.5 * (v_old + v_new);
+        const Vec3 l_mid = 0.5 * (l_old + l_new);
+        // L_mid . I_world(q(t))^-1 L_mid = 2 x rotational energy at t
+        const double two_e_rot = dot(l_mid, angular_velocity_world(q_old, l_mid, ib));
+        const double m = k.mass;
+        acc.damping_dissipation += k.alpha_dt * (m * norm2(v_mid) + two_e_rot);
+        if (measure) {
+          acc.kinetic_translational += 0.5 * m * norm2(v_mid);
+          acc.kinetic_rotational += 0.5 * two_e_rot;
+          acc.sum_inertia_moment += norm(l_new - l_old) / dt;
+        }
+      } else {
+        w_new = k.decay * w_old + k.kick_rot * t_in[i];
+      }
+    } else {
+      w_new = k.decay * w_old + k.kick_rot * t_in[i];
+    }
+    if (!Spheroids || in.shape[i] != Shape::Spheroid) {
       vel[i] = v_new;
       omg[i] = w_new;
       const Vec3 v_mid = 0.5 * (v_old + v_new);
@@ -80,18 +100,45 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
         acc.kinetic_rotational += 0.5 * inert * norm2(w_mid);
         acc.sum_inertia_moment += inert / dt * norm(w_new - w_old);
       }
-      const Vec3 s = PeriodicCell::wrap(frac[i] + hinv * (dt * v_new));
-      frac[i] = s;
-      Vec3 ds = s - s_build[i];
-      ds.x -= std::nearbyint(ds.x);
-      ds.y -= std::nearbyint(ds.y);
-      ds.z -= std::nearbyint(ds.z);
-      const double d2 = norm2(h * ds);
-      acc.max_displacement2 = std::max(acc.max_displacement2, d2);
-      if (!std::isfinite(d2) || !std::isfinite(v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z))
-        acc.finite = false;
     }
-    sums[c] = acc;
+    const Vec3 s = PeriodicCell::wrap(frac[i] + hinv * (dt * v_new));
+    frac[i] = s;
+    Vec3 ds = s - s_build[i];
+    ds.x -= std::nearbyint(ds.x);
+    ds.y -= std::nearbyint(ds.y);
+    ds.z -= std::nearbyint(ds.z);
+    const double d2 = norm2(h * ds);
+    acc.max_displacement2 = std::max(acc.max_displacement2, d2);
+    if (!std::isfinite(d2) || !std::isfinite(v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z))
+      acc.finite = false;
+  }
+  return acc;
+}
+
+IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
+                                            const std::vector<Vec3>& force,
+                                            const std::vector<Vec3>& torque,
+                                            const std::vector<Vec3>& frac_at_build, bool measure) {
+  const std::size_t n = p.size();
+  const std::int32_t nchunks = chunk_count(n);
+  chunk_sums_.assign(static_cast<std::size_t>(nchunks), IntegrationSums{});
+  // Local copies and plain pointers: the stores below go through double*, which
+  // could otherwise alias the cell matrices and force reloads every particle.
+  // The per-particle constants come from one packed array (one stream
+  // instead of six). alpha dt is the same product the unpacked expression
+  // alpha * dt * (...) forms first.
+  const StepInputs in{p.velocity.data(), p.omega.data(),   p.frac.data(),  p.orientation.data(),
+                      p.shape.data(),    p.inertia.data(), force.data(),   torque.data(),
+                      frac_at_build.data(), cell.h_inverse(), cell.h()};
+  IntegrationSums* sums = chunk_sums_.data();
+  const bool spheroids = spheroids_;
+
+#pragma omp parallel for schedule(static, 1)
+  for (std::int32_t c = 0; c < nchunks; ++c) {
+    const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
+    const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
+    sums[c] = spheroids ? advance_chunk<true>(in, i_begin, i_end, measure)
+                        : advance_chunk<false>(in, i_begin, i_end, measure);
   }
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);

@@ -14,11 +14,12 @@ constexpr std::int32_t kChunk = 512;
 int wrap_bin(int b, int n) { return b < 0 ? b + n : (b >= n ? b - n : b); }
 }  // namespace
 
-void PairData::resize(std::size_t n) {
+void PairData::resize(std::size_t n, bool spheroids) {
   partner.resize(n);
   spring.resize(n);
   state.resize(n);
   active.resize(n, 0);
+  spheroid.resize(spheroids ? n : 0);
 }
 
 void NeighborList::build_bins(const Particles& p, const PeriodicCell& cell, double cutoff) {
@@ -114,9 +115,11 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
       for (std::size_t k = 0; k < ch.size(); k += static_cast<std::size_t>(ch[k]) + 1, ++i)
         offsets[static_cast<std::size_t>(i) + 1] = offsets[static_cast<std::size_t>(i)] + ch[k];
   }
+  const bool spheroids = p.has_spheroids();
   PairData next;
-  next.resize(static_cast<std::size_t>(offsets[static_cast<std::size_t>(n)]));
+  next.resize(static_cast<std::size_t>(offsets[static_cast<std::size_t>(n)]), spheroids);
   const bool carry = built_ && offsets_.size() == offsets.size();
+  const bool carry_spheroid = carry && spheroids && spheroids_;
   {
     std::int32_t i = 0;
     for (const auto& ch : chunks) {
@@ -134,6 +137,7 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
             next.spring[e] = pairs_.spring[o];
             next.state[e] = pairs_.state[o];
             next.active[e] = pairs_.active[o];
+            if (carry_spheroid) next.spheroid[e] = pairs_.spheroid[o];
           }
         }
         k += static_cast<std::size_t>(cnt) + 1;
@@ -142,6 +146,7 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
   }
   offsets_.swap(offsets);
   pairs_ = std::move(next);
+  spheroids_ = spheroids;
   build_reverse(p);
   frac_at_build_ = p.frac;
   h_at_build_inv_ = cell.h_inverse();
@@ -235,8 +240,10 @@ std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e) {
       const Vec3& s = pairs_.spring[e];
-      if (pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0)
-        out.push_back({p.id[i], p.id[pairs_.partner[e]], s});
+      const bool cached = spheroids_ && pairs_.spheroid[e].cache.valid;
+      if (pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0 || cached)
+        out.push_back({p.id[i], p.id[pairs_.partner[e]], s,
+                       cached ? pairs_.spheroid[e].cache : SpheroidContactCache{}});
     }
   std::sort(out.begin(), out.end(), [](const ContactHistory& a, const ContactHistory& b) {
     return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
@@ -257,6 +264,7 @@ std::size_t NeighborList::restore(const Particles& p, const std::vector<ContactH
       for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e)
         if (p.id[pairs_.partner[e]] == h.id_b) {
           pairs_.spring[e] = h.spring;
+          if (spheroids_) pairs_.spheroid[e].cache = h.cache;
           // Mark as "in contact at the last evaluation" so that the next force
           // evaluation clears the spring if the pair has separated, exactly
           // as an uninterrupted run does. Every entry's flag is rewritten by

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include "virtual_triaxial/dem/spheroid.h"
 
 namespace vt::dem {
 
@@ -42,6 +45,29 @@ void Particles::add_sphere(std::int64_t pid, double r, double rho, const Vec3& s
   omega.push_back(w);
   orientation.push_back({});
   material.push_back(mat);
+}
+
+void Particles::add_spheroid(std::int64_t pid, double a, double b, double rho, const Vec3& s,
+                             const Quaternion& q, const Vec3& v, const Vec3& w, std::int32_t mat) {
+  if (!(b > 0.0 && a >= b && std::isfinite(a)))
+    throw std::invalid_argument("spheroid semi-axes: need a >= b > 0 (prolate, symmetry axis a)");
+  if (!(rho > 0.0)) throw std::invalid_argument("spheroid density: must be > 0");
+  const Spheroid sp(a, b, q);
+  id.push_back(pid);
+  shape.push_back(Shape::Spheroid);
+  radius.push_back(sp.nominal_radius());
+  semi_axes.push_back({a, b, b});
+  mass.push_back(sp.mass(rho));
+  inertia.push_back(sp.principal_inertia(rho));
+  frac.push_back(s);
+  velocity.push_back(v);
+  omega.push_back(w);
+  orientation.push_back(q);
+  material.push_back(mat);
+}
+
+bool Particles::has_spheroids() const {
+  return std::any_of(shape.begin(), shape.end(), [](Shape s) { return s == Shape::Spheroid; });
 }
 
 double Particles::min_minor_semi_axis() const {

@@ -25,8 +25,15 @@ Simulation::Simulation(const SimulationState& s)
 
 void Simulation::initialize() {
   if (particles_.size() < 2) throw std::invalid_argument("particles: at least 2 particles are needed");
-  for (Shape s : particles_.shape)
-    if (s != Shape::Sphere) throw std::invalid_argument("particles.shape: only spheres are supported so far");
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Vec3& a = particles_.semi_axes[i];
+    if (particles_.shape[i] == Shape::Sphere) continue;
+    if (particles_.shape[i] != Shape::Spheroid)
+      throw std::invalid_argument("particles.shape: entry " + std::to_string(i) + " is neither sphere nor spheroid");
+    if (!(a.y > 0.0 && a.x >= a.y && a.z == a.y))
+      throw std::invalid_argument("particles.semi_axes: entry " + std::to_string(i) +
+                                  " must be (a, b, b) with a >= b > 0 (prolate spheroid)");
+  }
   const std::string bad = settings_.material.validate();
   if (!bad.empty()) throw std::invalid_argument("material." + bad);
   if (!(settings_.time_step_ratio > 0.0)) throw std::invalid_argument("time_step_ratio: must be > 0");
@@ -80,6 +87,7 @@ bool Simulation::step(bool measure) {
     for (int b = 0; b < 3; ++b) power -= l.m[a][b] * cs.virial.m[b][a];
   const double volume = cell_.volume();
   last_virial_ = cs.virial;
+  spheroid_stats_.add(cs.spheroid);
   last_force_volume_ = volume;
 
   cell_.deform(dt);
@@ -178,6 +186,8 @@ Measures Simulation::measures() const {
   m.contacts = cs.contacts;
   m.sliding_contacts = cs.sliding;
   m.max_overlap_ratio = cs.max_overlap_ratio;
+  m.spheroid_contact_fallbacks = static_cast<std::int64_t>(spheroid_stats_.fallbacks);
+  m.spheroid_contact_failures = static_cast<std::int64_t>(spheroid_stats_.failures);
   m.energy = energy_;
   return m;
 }

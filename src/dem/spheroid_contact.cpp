@@ -175,6 +175,10 @@ bool damped_newton(const Body& bi, const Body& bj, const Vec3& d, Vec3& n, int m
 
 }  // namespace
 
+double spheroid_gap_bound(const Spheroid& si, const Spheroid& sj, const Vec3& d, const Vec3& n) {
+  return gap_function(make_body(si), make_body(sj), d, n);
+}
+
 SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, const Vec3& d,
                                         SpheroidContactCache* cache, SpheroidContactStats* stats,
                                         const SpheroidContactOptions& opt) {

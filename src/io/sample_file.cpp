@@ -109,16 +109,28 @@ void write_particles(const h5::Group& root, const dem::SimulationState& s) {
 void write_contacts(const h5::Group& root, const std::vector<dem::ContactHistory>& c) {
   const std::size_t m = c.size();
   std::vector<std::int64_t> a(m), b(m);
-  std::vector<Vec3> spring(m);
+  std::vector<Vec3> spring(m), normal(m), previous(m);
+  std::vector<std::uint8_t> history(m);
+  bool cached = false;
   for (std::size_t k = 0; k < m; ++k) {
     a[k] = c[k].id_a;
     b[k] = c[k].id_b;
     spring[k] = c[k].spring;
+    const dem::SpheroidContactCache& cache = c[k].cache;
+    history[k] = cache.valid ? (cache.has_previous ? 2 : 1) : 0;
+    cached = cached || cache.valid;
+    if (cache.valid) normal[k] = cache.normal;
+    if (cache.valid && cache.has_previous) previous[k] = cache.previous;
   }
   h5::Group g = root.create_group("contacts");
   g.write("id_a", a, m, 0, "1");
   g.write("id_b", b, m, 0, "1");
   g.write("spring", flat(spring), m, 3, "N");
+  if (cached) {
+    g.write("normal_history", history, m, 0, "1");
+    g.write("normal", flat(normal), m, 3, "1");
+    g.write("normal_previous", flat(previous), m, 3, "1");
+  }
 }
 
 void write_rest(const h5::Group& root, const dem::SimulationState& s, const SampleMetadata& meta) {
@@ -291,6 +303,22 @@ std::vector<dem::ContactHistory> read_contacts(const h5::Group& root, const std:
     out[k].id_a = a[k];
     out[k].id_b = b[k];
     out[k].spring = {spring[3 * k], spring[3 * k + 1], spring[3 * k + 2]};
+  }
+  if (g.has("normal_history")) {  // spheroid samples: the contact solver's warm start
+    const std::vector<std::uint8_t> history = g.read<std::uint8_t>("normal_history", m, 0, ref);
+    const std::vector<double> normal = g.read<double>("normal", m, 3, ref);
+    const std::vector<double> previous = g.read<double>("normal_previous", m, 3, ref);
+    check_each(g, "normal", normal, 3, finite, "finite");
+    check_each(g, "normal_previous", previous, 3, finite, "finite");
+    for (std::size_t k = 0; k < m; ++k) {
+      if (history[k] > 2)
+        g.fail("normal_history", entry(k, 0) + " is " + std::to_string(history[k]) + ", must be 0, 1 or 2");
+      dem::SpheroidContactCache& cache = out[k].cache;
+      cache.valid = history[k] >= 1;
+      cache.has_previous = history[k] == 2;
+      cache.normal = {normal[3 * k], normal[3 * k + 1], normal[3 * k + 2]};
+      cache.previous = {previous[3 * k], previous[3 * k + 1], previous[3 * k + 2]};
+    }
   }
   return out;
 }

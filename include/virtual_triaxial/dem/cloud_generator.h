@@ -4,6 +4,14 @@
 // grid). The box starts at volume (1 + e_target) V_solids and grows by 5 %
 // (same aspect) whenever a particle cannot be placed, so it is as small as
 // will hold the cloud. Velocities start at zero. Deterministic for a seed.
+//
+// Spheroids (chapter 4): with aspect_ratio = a/b > 1 every particle becomes a
+// prolate spheroid whose nominal (equal-volume) radius is the requested
+// radius r: a = r k^(2/3), b = a / k (k the aspect ratio, so cbrt(a b^2) = r
+// and the void ratio refers to the true solid volume). The cloud is placed
+// with the bounding spheres (radius a), so nothing overlaps, and each
+// spheroid gets a uniformly random orientation (Shoemake) from a stream
+// derived from the seed. aspect_ratio = 1 gives spheres, exactly as before.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +19,7 @@
 
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/random_stream.h"
 
 namespace vt::dem {
 
@@ -21,6 +30,7 @@ struct CloudRequest {
   double void_ratio = 2.0;        ///< initial target e = V_box / V_solids - 1
   std::uint64_t seed = 1;
   int attempts_per_particle = 2000;
+  double aspect_ratio = 1.0;      ///< spheroid a/b >= 1; 1 = spheres
 };
 
 struct Cloud {
@@ -30,6 +40,9 @@ struct Cloud {
 };
 
 Cloud generate_cloud(const CloudRequest& req);
+
+/// Uniformly random rotation (Shoemake 1992) from three uniforms of rng.
+Quaternion random_orientation(RandomStream& rng);
 
 /// Radii for `count` particles uniform in [rmin, rmax], deterministic.
 std::vector<double> uniform_radii(std::int64_t count, double rmin, double rmax, std::uint64_t seed);

@@ -1,4 +1,5 @@
-// Contact force evaluation for spheres over the neighbour list.
+// Contact force evaluation over the neighbour list: spheres (below) and,
+// when the particles include spheroids, the spheroid path (further below).
 //
 // For each listed pair (i = lower id, j = partner):
 //   d = minimum-image branch vector x_j - x_i, n = d/|d|,
@@ -11,6 +12,21 @@
 // moment (about the centroid) are then gathered in ascending partner-id order,
 // so the sums do not depend on list layout or thread count.
 // Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
+//
+// Spheroids (chapter 4; used only when NeighborList::has_spheroids(), so a
+// sample of spheres never runs this code): pairs whose bounding spheres
+// (radius a) overlap go through detect_spheroid_contact (common normal,
+// spheroid_contact.h; warm-started from the pair's cache kept with its
+// spring; fallbacks and failures counted in ContactSums::spheroid). A pair
+// with a spheroid gives overlap delta, normal n and contact point c
+// (relative to x_i); sphere-sphere pairs of a mixed sample take the closed
+// form (no solver). Hertz-Mindlin (hertz_mindlin.h) with R* from the average
+// radii R_i = (a_i + 2 b_i)/3 (eq. 104; R for a sphere), applied at c:
+//   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c        [m/s]
+//   T_i = c x F_on_i,  T_j = (c - d) x F_on_j               [N m]
+// (both normal and tangential parts: normal forces give moments on
+// spheroids). max_overlap_ratio is then delta / min(b_i, b_j). Summation
+// order and chunking as for spheres, so results are deterministic.
 //
 // Performance notes (bench/triax_bench.cpp measures them): the pairs of a
 // 512-particle chunk are first tested for contact in one branch-free pass,
@@ -29,6 +45,7 @@
 #include "virtual_triaxial/dem/neighbor_list.h"
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/spheroid_contact.h"
 
 namespace vt::dem {
 
@@ -42,6 +59,7 @@ struct ContactSums {
   std::int64_t sliding = 0;
   double sum_force = 0;             ///< sum |F_c| [N] (only when measuring)
   double sum_force2 = 0;            ///< sum |F_c|^2 [N^2] (only when measuring)
+  SpheroidContactStats spheroid;   ///< contact-solver counters (pairs with a spheroid)
 
   void add(const ContactSums& o);
 };

@@ -15,6 +15,8 @@
 // coordination  mechanical coordination number after iterative removal of
 //               idle particles (< 3 contacts) and their contacts (section 4.5);
 //               idle fraction by mass
+// spheroid contact fallbacks / failures: counters of the common-normal
+//               solver (spheroid_contact.h), summed since the run started
 // f_p, M_p are the resultant contact force and moment (about the centroid)
 // on particle p; contacts are pairs with positive overlap.
 #pragma once
@@ -45,6 +47,10 @@ struct Measures {
   std::int64_t contacts = 0;
   std::int64_t sliding_contacts = 0;
   double max_overlap_ratio = 0;
+  /// Spheroid contact solver, counted since the Simulation was constructed:
+  /// solves that needed the fallback, and solves that did not converge.
+  std::int64_t spheroid_contact_fallbacks = 0;
+  std::int64_t spheroid_contact_failures = 0;
   EnergyBudget energy;
 };
 

@@ -12,6 +12,12 @@
 // partner id) whatever the list layout: results do not depend on when the
 // list was rebuilt or on the number of threads.
 //
+// Spheroids: the pair test uses the bounding radius (semi_axes.x = major
+// semi-axis a; = R for spheres). When the particles include spheroids
+// (has_spheroids()), every entry also carries a SpheroidPairState: the
+// warm-start cache of the common-normal solver (spheroid_contact.h), keyed
+// and carried over like the spring, and the pair's moments on both particles.
+//
 // Rebuild criterion: 2 max_p |H (s_p - s_p,build)| + ||H H_build^-1 - I||_F
 // * cutoff_max > skin, i.e. no pair can have closed the skin since the build,
 // with the affine part of the motion included.
@@ -22,6 +28,7 @@
 
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/spheroid_contact.h"
 #include "virtual_triaxial/dem/vec3.h"
 
 namespace vt::dem {
@@ -32,6 +39,14 @@ struct alignas(64) PairState {
   Vec3 force;                ///< total contact force on j [N]; zero when not in contact
   Vec3 moment_axis;          ///< n x F_on_i [N]; torque on i = l_i * this; zero when not in contact
   double half_overlap = 0;   ///< delta/2 [m]; 0 when not in contact
+};
+
+/// Per-entry state of a pair that involves a spheroid (only kept when the
+/// particles include spheroids). The moments are zero when not in contact.
+struct SpheroidPairState {
+  SpheroidContactCache cache;  ///< warm start of the contact solver
+  Vec3 torque_i;               ///< moment on i (the owner) about its centre [N m]
+  Vec3 torque_j;               ///< moment on j (the partner) about its centre [N m]
 };
 
 /// Read-only view of one field of PairData::state, indexed by list entry
@@ -55,23 +70,27 @@ struct PairData {
   std::vector<Vec3> spring;           ///< tangential force on j [N]
   std::vector<PairState> state;       ///< last evaluation (force, moment axis, overlap)
   std::vector<std::uint8_t> active;   ///< 1: in contact at the last evaluation (= half_overlap != 0)
+  std::vector<SpheroidPairState> spheroid;  ///< empty unless the particles include spheroids
   // Read-only views of the fields of `state`.
   PairField<Vec3, &PairState::force> force{&state};              ///< force on j [N]
   PairField<Vec3, &PairState::moment_axis> moment_axis{&state};  ///< n x F_on_i [N]
   PairField<double, &PairState::half_overlap> half_overlap{&state};  ///< delta/2 [m]
 
   PairData() = default;
-  PairData(const PairData& o) : partner(o.partner), spring(o.spring), state(o.state), active(o.active) {}
+  PairData(const PairData& o)
+      : partner(o.partner), spring(o.spring), state(o.state), active(o.active), spheroid(o.spheroid) {}
   PairData(PairData&& o) noexcept
       : partner(std::move(o.partner)),
         spring(std::move(o.spring)),
         state(std::move(o.state)),
-        active(std::move(o.active)) {}
+        active(std::move(o.active)),
+        spheroid(std::move(o.spheroid)) {}
   PairData& operator=(const PairData& o) {
     partner = o.partner;
     spring = o.spring;
     state = o.state;
     active = o.active;
+    spheroid = o.spheroid;
     return *this;
   }
   PairData& operator=(PairData&& o) noexcept {
@@ -79,17 +98,23 @@ struct PairData {
     spring = std::move(o.spring);
     state = std::move(o.state);
     active = std::move(o.active);
+    spheroid = std::move(o.spheroid);
     return *this;
   }
 
   std::size_t size() const { return partner.size(); }
-  void resize(std::size_t n);
+  /// Resize every per-entry array; `spheroids` sizes the spheroid states too.
+  void resize(std::size_t n, bool spheroids = false);
 };
 
-/// A contact's history as stored in sample files: ids and tangential spring.
+/// A contact's history as stored in sample files: ids, tangential spring
+/// and, for pairs with a spheroid, the contact solver's warm-start cache
+/// (needed for a bit-for-bit restart: the converged normal depends on the
+/// start in its last bits).
 struct ContactHistory {
   std::int64_t id_a = 0, id_b = 0;  ///< id_a < id_b; spring acts on id_b
   Vec3 spring;
+  SpheroidContactCache cache{};     ///< invalid for sphere pairs
 };
 
 class NeighborList {
@@ -110,6 +135,8 @@ class NeighborList {
   /// Fractional positions at the last build (for fused displacement checks).
   const std::vector<Vec3>& frac_at_build() const { return frac_at_build_; }
   bool built() const { return built_; }
+  /// True when the last build saw spheroids (pairs().spheroid is then sized).
+  bool has_spheroids() const { return spheroids_; }
   std::int64_t rebuild_count() const { return rebuilds_; }
 
   const std::vector<std::int32_t>& offsets() const { return offsets_; }
@@ -124,7 +151,8 @@ class NeighborList {
   PairData& pairs() { return pairs_; }
   const PairData& pairs() const { return pairs_; }
 
-  /// Contacts with a non-zero spring or overlap, for saving.
+  /// Contacts with a non-zero spring or overlap, or a valid spheroid solver
+  /// cache, for saving.
   std::vector<ContactHistory> histories(const Particles& p) const;
   /// Restore springs after build(); unknown pairs are reported by count.
   std::size_t restore(const Particles& p, const std::vector<ContactHistory>& h);
@@ -137,6 +165,7 @@ class NeighborList {
 
   double skin_ = 0.0;
   bool built_ = false;
+  bool spheroids_ = false;
   std::int64_t rebuilds_ = 0;
   double cutoff_max_ = 0.0;
   std::vector<std::int32_t> offsets_;   ///< CSR offsets, size N+1

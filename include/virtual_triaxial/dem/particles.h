@@ -7,9 +7,14 @@
 // `velocity` is the fluctuating (non-affine) velocity: the total velocity of
 // a particle at x is L x + velocity, with L the cell's velocity gradient.
 //
-// The layout leaves room for spheroids (chapter 4): shape tag, semi-axes
-// (a >= b = c), body-frame principal inertia and an orientation quaternion
-// are stored for every particle; spheres use a = b = radius and q = identity.
+// Spheroids (chapter 4): shape tag, semi-axes (a >= b = c), body-frame
+// principal inertia and an orientation quaternion are stored for every
+// particle; spheres use a = b = radius and q = identity. A spheroid's
+// `radius` is its nominal (equal-volume) radius cbrt(a b^2) (spheroid.h),
+// used by the ND damping (eq. 63); its inertia is the body-frame principal
+// inertia (I_axis, I_perp, I_perp), I_axis = 2/5 m b^2, I_perp = 1/5 m (a^2 + b^2).
+// For a spheroid `omega` is the world angular velocity at half steps; the
+// rigid-rotation integrator derives the angular momentum from it and q.
 #pragma once
 
 #include <cstdint>
@@ -41,6 +46,16 @@ struct Particles {
   /// Append a sphere of radius r and density rho at fractional position s.
   void add_sphere(std::int64_t pid, double r, double rho, const Vec3& s,
                   const Vec3& v = {}, const Vec3& w = {}, std::int32_t mat = 0);
+  /// Append a prolate spheroid with semi-axes a >= b (symmetry axis = body x)
+  /// and density rho at fractional position s; q: unit quaternion body ->
+  /// world. Nominal radius cbrt(a b^2), inertia from spheroid.h. A spheroid
+  /// with a == b is still a spheroid (it goes through the spheroid code).
+  /// Throws std::invalid_argument unless a >= b > 0 and rho > 0.
+  void add_spheroid(std::int64_t pid, double a, double b, double rho, const Vec3& s,
+                    const Quaternion& q = {}, const Vec3& v = {}, const Vec3& w = {},
+                    std::int32_t mat = 0);
+  /// True when any particle is a spheroid (O(N) scan: cache the answer).
+  bool has_spheroids() const;
   /// Smallest minor semi-axis (= smallest radius for spheres) [m].
   double min_minor_semi_axis() const;
   /// Largest bounding radius (major semi-axis) [m].

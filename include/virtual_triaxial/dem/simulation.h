@@ -5,8 +5,11 @@
 // A step at time t: (re)build the neighbour list if stale; evaluate contact
 // forces at x(t); add the boundary work -sum_c F_c . (L d_c) dt; deform the
 // cell to t+dt (eq. 131); advance velocities with eq. 2 and positions.
-// Spheres only: spheroids arrive with their own contact path in a later
-// issue, and a sphere never runs through spheroid code.
+// Spheres and prolate spheroids (chapter 4): a sample without spheroids runs
+// the sphere code only (contact_forces.h, leapfrog_integrator.h); with
+// spheroids, pairs with a spheroid take the common-normal contact path and
+// spheroids rotate by Euler's equations (eq. 43). The contact solver's
+// fallbacks/failures are counted over the run (spheroid_contact_stats()).
 #pragma once
 
 #include <cstdint>
@@ -77,6 +80,9 @@ class Simulation {
   const NeighborList& neighbor_list() const { return list_; }
   const std::vector<Vec3>& forces() const { return force_; }
   const std::vector<Vec3>& torques() const { return torque_; }
+  /// Spheroid contact-solver counters summed over every step since
+  /// construction (all zero for spheres).
+  const SpheroidContactStats& spheroid_contact_stats() const { return spheroid_stats_; }
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
   double dt() const { return time_scale_.dt; }
@@ -107,6 +113,7 @@ class Simulation {
   StabilityMonitor monitor_;
   EnergyBudget energy_;
   std::vector<Vec3> force_, torque_;
+  SpheroidContactStats spheroid_stats_;
   double time_ = 0;
   std::int64_t steps_ = 0;
   double last_max_disp2_ = 0;

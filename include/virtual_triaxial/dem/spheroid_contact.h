@@ -137,6 +137,11 @@ struct SpheroidContact {
   bool fallback = false;   ///< the fallback path ran
 };
 
+/// Separation certificate: g(n) = h_i(n) + h_j(n) - n.d [m] for a unit n.
+/// delta = min g <= g(n), so g(n) < 0 proves the bodies apart (no iteration
+/// needed); callers try the pair's last normal. Cost: 2 square roots.
+double spheroid_gap_bound(const Spheroid& si, const Spheroid& sj, const Vec3& d, const Vec3& n);
+
 /// Detect the contact of spheroid j (centre x_i + d) with spheroid i (centre x_i).
 /// cache may be null (always cold start); stats may be null.
 SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, const Vec3& d,

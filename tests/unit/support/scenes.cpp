@@ -46,6 +46,18 @@ CloudScene polydisperse_cloud(std::int64_t n, double void_ratio, std::uint64_t s
   return s;
 }
 
+CloudScene spheroid_cloud(std::int64_t n, double aspect, double void_ratio, std::uint64_t seed, double density) {
+  CloudScene spheres = polydisperse_cloud(n, void_ratio, seed, 1.0, density);
+  dem::RandomStream rng(seed + 7919);
+  const dem::Particles& p = spheres.particles;
+  CloudScene s;
+  s.cell = spheres.cell;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    s.particles.add_spheroid(p.id[i], p.radius[i], p.radius[i] / aspect, density, p.frac[i],
+                             dem::random_orientation(rng));
+  return s;
+}
+
 void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed) {
   dem::RandomStream rng(seed);
   for (std::size_t i = 0; i < p.size(); ++i) {

@@ -23,6 +23,13 @@ struct CloudScene {
 CloudScene polydisperse_cloud(std::int64_t n, double void_ratio, std::uint64_t seed,
                               double length_scale = 1.0, double density = 2650.0);
 
+/// A loose cloud of prolate spheroids: the cloud of polydisperse_cloud(n,
+/// void_ratio, seed) (void ratio of the bounding spheres) with every sphere
+/// replaced by a spheroid of major semi-axis a = R (so nothing overlaps),
+/// b = a / aspect and a random orientation (dem::random_orientation).
+CloudScene spheroid_cloud(std::int64_t n, double aspect, double void_ratio, std::uint64_t seed,
+                          double density = 2650.0);
+
 /// Give every particle a random velocity of size ~speed and random spin.
 void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed);
 

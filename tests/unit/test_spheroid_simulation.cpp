@@ -1,0 +1,521 @@
+// Spheroids in the simulation core (issue 5): particles, contact path
+// (common normal, Hertz-Mindlin at the contact point), rigid-body rotation,
+// time scale and damping, sample-file restart, and the acceptance tests:
+// a sphere given as a spheroid of aspect 1 reproduces the sphere path, pair
+// symmetries, and energy conservation of an undamped frictionless gas.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <vector>
+
+#include "support/scenes.h"
+#include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/rigid_rotation.h"
+#include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/spheroid.h"
+#include "virtual_triaxial/dem/spheroid_contact.h"
+#include "virtual_triaxial/io/sample_file.h"
+
+using namespace vt::dem;
+
+namespace {
+
+constexpr double kRho = 2650.0;
+// Gas: steps in the suite and the tolerance (see the acceptance test).
+constexpr std::int64_t kGasSteps = 100000;  // 1e5 steps take ~7 s on one core
+constexpr double kGasTolerance = 1e-3;
+constexpr std::int64_t kPackingSteps = 10000;
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+double max_norm(const std::vector<Vec3>& v) {
+  double m = 0;
+  for (const Vec3& x : v) m = std::max(m, norm(x));
+  return m;
+}
+
+double max_diff(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double m = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, norm(a[i] - b[i]));
+  return m;
+}
+
+/// Two-particle scene in a large cubic cell (no periodic image within reach).
+struct PairScene {
+  Particles p;
+  PeriodicCell cell{Vec3{0.02, 0.02, 0.02}};
+};
+
+/// Spheroid (a, b, q) at world position x [m] in the pair scene's cell.
+void add_at(PairScene& s, std::int64_t id, double a, double b, const Quaternion& q, const Vec3& x,
+            const Vec3& v = {}, const Vec3& w = {}) {
+  s.p.add_spheroid(id, a, b, kRho, s.cell.h_inverse() * x, q, v, w);
+}
+
+/// Forces and torques of one evaluation (the first step) of a scene.
+struct Evaluation {
+  std::vector<Vec3> force, torque;
+  Measures m;
+};
+
+Evaluation evaluate(Particles p, const PeriodicCell& cell, const SimulationSettings& s) {
+  Simulation sim(std::move(p), cell, s);
+  EXPECT_TRUE(sim.step(true)) << sim.failure();
+  return {sim.forces(), sim.torques(), sim.measures()};
+}
+
+Quaternion axis_rotation(const Vec3& u, double phi) { return axis_angle((1.0 / norm(u)) * u, phi); }
+
+}  // namespace
+
+// ---- step 1: particles --------------------------------------------------------------
+
+TEST(SpheroidParticles, AddSpheroidGivesNominalRadiusMassAndBodyInertia) {
+  Particles p;
+  p.add_sphere(0, 1e-3, kRho, {0.1, 0.1, 0.1});
+  EXPECT_FALSE(p.has_spheroids());
+  const double a = 1.2e-3, b = 1e-3;
+  const Quaternion q = axis_rotation({1, 2, 3}, 0.7);
+  p.add_spheroid(1, a, b, kRho, {0.5, 0.5, 0.5}, q, {1, 2, 3}, {4, 5, 6});
+  EXPECT_TRUE(p.has_spheroids());
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p.shape[1], Shape::Spheroid);
+  const double m = kRho * 4.0 / 3.0 * M_PI * a * b * b;
+  EXPECT_NEAR(p.radius[1], std::cbrt(a * b * b), 1e-15 * a);  // equal-volume radius
+  EXPECT_NEAR(p.mass[1], m, 1e-14 * m);
+  EXPECT_NEAR(p.inertia[1].x, 0.4 * m * b * b, 1e-14 * m * a * a);            // about the axis
+  EXPECT_NEAR(p.inertia[1].y, 0.2 * m * (a * a + b * b), 1e-14 * m * a * a);  // across it
+  EXPECT_EQ(p.inertia[1].y, p.inertia[1].z);
+  EXPECT_EQ(p.semi_axes[1].x, a);
+  EXPECT_EQ(p.semi_axes[1].y, b);
+  EXPECT_EQ(p.semi_axes[1].z, b);
+  EXPECT_EQ(0, std::memcmp(&p.orientation[1], &q, sizeof q));
+  EXPECT_EQ(p.min_minor_semi_axis(), b);
+  EXPECT_EQ(p.max_bounding_radius(), a);
+  EXPECT_NEAR(p.solid_volume(), 4.0 / 3.0 * M_PI * (1e-9 + a * b * b), 1e-14 * 1e-9);
+  EXPECT_THROW(p.add_spheroid(2, b, a, kRho, {}), std::invalid_argument);  // oblate: not supported
+  EXPECT_THROW(p.add_spheroid(2, a, 0.0, kRho, {}), std::invalid_argument);
+}
+
+TEST(SpheroidParticles, CloudGeneratorMakesNonOverlappingSpheroidsOfNominalRadiusAndVoidRatio) {
+  CloudRequest req;
+  req.radii = uniform_radii(300, 0.8e-3, 1.2e-3, 4);
+  req.void_ratio = 2.0;
+  req.seed = 4;
+  req.aspect_ratio = 1.2;
+  const Cloud c = generate_cloud(req);
+  const Particles& p = c.particles;
+  ASSERT_EQ(p.size(), 300u);
+  ASSERT_TRUE(p.has_spheroids());
+  std::vector<double> sorted = req.radii;
+  std::sort(sorted.begin(), sorted.end(), std::greater<double>());
+  double vs = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    EXPECT_NEAR(p.radius[i], sorted[i], 1e-15 * sorted[i]);  // nominal radius = requested radius
+    EXPECT_NEAR(p.semi_axes[i].x / p.semi_axes[i].y, 1.2, 1e-15);
+    vs += sphere_volume(sorted[i]);
+  }
+  EXPECT_NEAR(p.solid_volume(), vs, 1e-13 * vs);
+  // The box holds the bounding spheres (random sequential addition grows it
+  // when they do not fit), so the void ratio is at least the requested one.
+  EXPECT_GE(c.cell.volume() / p.solid_volume() - 1.0, 2.0 - 1e-12);
+  // No two spheroids overlap (exact common-normal overlap, all pairs).
+  int worst = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const Vec3 d = c.cell.branch(p.frac[i], p.frac[j]);
+      const SpheroidContact sc = detect_spheroid_contact(Spheroid::from_semi_axes(p.semi_axes[i], p.orientation[i]),
+                                                         Spheroid::from_semi_axes(p.semi_axes[j], p.orientation[j]), d);
+      worst += sc.overlap > 0 ? 1 : 0;
+    }
+  EXPECT_EQ(worst, 0);
+  // aspect 1 keeps the sphere cloud exactly
+  req.aspect_ratio = 1.0;
+  EXPECT_FALSE(generate_cloud(req).particles.has_spheroids());
+}
+
+// ---- step 4: time scale and damping -------------------------------------------------
+
+TEST(SpheroidTimeScale, L0IsTwiceTheSmallestMinorSemiAxisAndNdDampingUsesNominalRadius) {
+  PairScene s;
+  const double a = 1.2e-3, b = 1e-3;
+  const Vec3 v{0.3, -0.2, 0.1}, w{200, 100, -300};
+  add_at(s, 0, a, b, axis_rotation({1, 1, 0}, 0.4), {0.005, 0.005, 0.005}, v, w);
+  add_at(s, 1, 2 * a, 0.9 * b, axis_rotation({0, 1, 1}, 1.1), {0.015, 0.015, 0.015});
+  SimulationSettings st = vt::test::undamped(0.2, 0.5);
+  const double xi = 0.3;
+  st.damping = MassDamping(DampingModel::ND, xi);
+  const Particles p0 = s.p;
+  Simulation sim(std::move(s.p), s.cell, st);
+  const Material& mat = st.material;
+  EXPECT_DOUBLE_EQ(sim.time_scale().l0, 2 * 0.9 * b);  // eq. 15
+  EXPECT_DOUBLE_EQ(sim.time_scale().t0, 2 * 0.9 * b * std::sqrt(mat.density / mat.young));
+  // A free spheroid (no contact): one step multiplies v and L by
+  // (1 - a dt/2)/(1 + a dt/2), a = 2 xi / R_nom sqrt(E/rho) (eq. 63, 29).
+  ASSERT_TRUE(sim.step(false));
+  const double alpha = 2.0 * xi / std::cbrt(a * b * b) * std::sqrt(mat.young / mat.density);
+  const double h = 0.5 * alpha * sim.dt();
+  const double decay = (1 - h) / (1 + h);
+  const Particles& p = sim.particles();
+  EXPECT_LT(norm(p.velocity[0] - decay * v), 1e-15 * norm(v));
+  const Vec3 l0 = angular_momentum_world(p0.orientation[0], w, p0.inertia[0]);
+  const Vec3 l1 = angular_momentum_world(p.orientation[0], p.omega[0], p.inertia[0]);
+  EXPECT_LT(norm(l1 - decay * l0), 1e-13 * norm(l0));
+}
+
+// ---- step 2: contact path, closed forms and symmetries ------------------------------
+
+TEST(SpheroidContactForces, TipToSideFrictionlessMatchesHertzWithAverageRadii) {
+  // i along x, j's axis along y; j touches i's tip with its side: delta = a + b - d.
+  const double a = 1.2e-3, b = 1e-3, delta = 2e-6;
+  PairScene s;
+  const Vec3 c{0.01, 0.01, 0.01};
+  const double d = a + b - delta;
+  add_at(s, 0, a, b, {}, c);
+  add_at(s, 1, a, b, axis_rotation({0, 0, 1}, M_PI / 2), c + Vec3{d, 0, 0});
+  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
+  const Evaluation ev = evaluate(s.p, s.cell, st);
+  const HertzMindlin law(st.material);
+  const double r = (a + 2 * b) / 3.0;  // eq. 104 average radius, both particles
+  const double fn = law.normal_force(delta, 0.5 * r);
+  EXPECT_NEAR(ev.force[1].x, fn, 1e-9 * fn);  // delta is exact to ~1e-15 of b; F ~ delta^1.5
+  EXPECT_NEAR(ev.force[1].y, 0.0, 1e-12 * fn);
+  EXPECT_NEAR(ev.force[1].z, 0.0, 1e-12 * fn);
+  EXPECT_LT(norm(ev.force[0] + ev.force[1]), 1e-15 * fn);
+  EXPECT_LT(max_norm(ev.torque), 1e-12 * fn * a);  // central contact: no moment
+  EXPECT_EQ(ev.m.contacts, 1);
+  EXPECT_NEAR(ev.m.max_overlap_ratio, delta / b, 1e-9 * delta / b);
+}
+
+TEST(SpheroidContactForces, NormalForceOnTiltedSpheroidGivesMomentAndBalancesAngularMomentum) {
+  // A tilted spheroid pressed on a sphere off its axis: frictionless, yet the
+  // normal force gives a moment (c x F). Moments about the origin balance:
+  // T_i + T_j + d x F_j = 0.
+  PairScene s;
+  const Vec3 c{0.01, 0.01, 0.01};
+  add_at(s, 0, 1.3e-3, 1e-3, axis_rotation({0, 0, 1}, 0.6), c);
+  s.p.add_sphere(1, 0.9e-3, kRho, s.cell.h_inverse() * (c + Vec3{2.1e-3, 0.3e-3, 0.1e-3}));
+  const Evaluation ev = evaluate(s.p, s.cell, vt::test::undamped(0.1, 0.0));
+  ASSERT_EQ(ev.m.contacts, 1);
+  const double f = norm(ev.force[1]);
+  const double scale = f * 1e-3;
+  EXPECT_GT(norm(ev.torque[0]), 1e-3 * scale) << "a normal force off the axis must turn the spheroid";
+  EXPECT_LT(norm(ev.torque[1]), 1e-12 * scale) << "the normal passes through the sphere's centre";
+  const Vec3 d{2.1e-3, 0.3e-3, 0.1e-3};
+  EXPECT_LT(norm(ev.torque[0] + ev.torque[1] + cross(d, ev.force[1])), 1e-12 * scale);
+  EXPECT_EQ(ev.m.spheroid_contact_fallbacks, 0);
+}
+
+TEST(SpheroidContactForces, SwappingIdsKeepsForcesAndRotatingThePairRotatesForceAndTorque) {
+  // Two spheroids in contact with friction and relative motion.
+  const double a = 1.2e-3, b = 1e-3;
+  const Vec3 c{0.01, 0.01, 0.01};
+  const Quaternion qi = axis_rotation({0.3, 1, -0.2}, 0.8), qj = axis_rotation({1, -0.5, 0.7}, 2.1);
+  // Centre distance along a fixed direction such that the overlap is 1 % of b.
+  const Vec3 dhat = (1.0 / std::sqrt(1.7 * 1.7 + 0.9 * 0.9 + 0.4 * 0.4)) * Vec3{1.7, 0.9, -0.4};
+  double dist = a + b;
+  for (int it = 0; it < 20; ++it) {
+    const SpheroidContact sc = detect_spheroid_contact(Spheroid(a, b, qi), Spheroid(a, b, qj), dist * dhat);
+    dist += (sc.overlap - 0.01 * b) / dot(sc.normal, dhat);
+  }
+  const Vec3 d = dist * dhat;
+  const Vec3 vi{0.01, -0.02, 0.005}, vj{-0.03, 0.01, 0.02}, wi{30, -10, 20}, wj{-5, 40, 10};
+  const SimulationSettings st = vt::test::undamped(0.1, 0.5);
+  auto scene = [&](const Quaternion& g, bool swap) {
+    PairScene s;
+    const std::int64_t id_i = swap ? 1 : 0, id_j = swap ? 0 : 1;
+    add_at(s, id_i, a, b, g * qi, c - 0.5 * g.rotate(d), g.rotate(vi), g.rotate(wi));
+    add_at(s, id_j, a, b, g * qj, c + 0.5 * g.rotate(d), g.rotate(vj), g.rotate(wj));
+    return evaluate(s.p, s.cell, st);
+  };
+  const Evaluation base = scene({}, false);
+  ASSERT_EQ(base.m.contacts, 1);
+  const double fs = max_norm(base.force), ts = max_norm(base.torque);
+  ASSERT_GT(fs, 0.0);
+  ASSERT_GT(ts, 0.0);
+  // Swapped ids: i and j exchange roles (normal flips); forces on each body agree.
+  const Evaluation swapped = scene({}, true);
+  EXPECT_LT(max_diff(base.force, swapped.force), 1e-12 * fs);
+  EXPECT_LT(max_diff(base.torque, swapped.torque), 1e-12 * ts);
+  // Rotated pair: force and torque rotate with it.
+  const Quaternion g = axis_rotation({-0.4, 0.2, 1}, 1.3);
+  const Evaluation rot = scene(g, false);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_LT(norm(rot.force[k] - g.rotate(base.force[k])), 1e-10 * fs) << k;
+    EXPECT_LT(norm(rot.torque[k] - g.rotate(base.torque[k])), 1e-10 * ts) << k;
+  }
+}
+
+// ---- acceptance (a): a sphere given as a spheroid of aspect 1 -----------------------
+
+TEST(SpheroidAcceptance, AspectOneSpheroidsReproduceTheSpherePath) {
+  // A dense random packing of spheres with friction, random motion.
+  vt::test::CloudScene sc = vt::test::polydisperse_cloud(400, 1.8, 5);
+  SimulationSettings st = vt::test::undamped(0.3, 0.5);
+  st.damping = MassDamping(DampingModel::ND, 0.02);
+  Simulation prep(std::move(sc.particles), sc.cell, st);
+  prep.set_strain_rates(Vec3{-1, -1, -1} * (4e-4 / prep.time_scale().t0));
+  ASSERT_EQ(prep.run(1200), 1200) << prep.failure();
+  const SimulationState s = prep.state();
+  const PeriodicCell cell(s.h, s.h_reference);
+  Particles spheres, spheroids;
+  RandomStream rng(17);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const Vec3 v{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    const Vec3 w{1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1)};
+    const double r = s.particles.radius[i];
+    spheres.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
+    spheroids.add_spheroid(s.particles.id[i], r, r, kRho, s.particles.frac[i],
+                           random_orientation(rng), v, w);
+  }
+  Simulation a(std::move(spheres), cell, st), b(std::move(spheroids), cell, st);
+  ASSERT_TRUE(a.step(true));
+  ASSERT_TRUE(b.step(true));
+  ASSERT_GT(a.measures().contacts, 300) << "the test needs a dense packing";
+  EXPECT_EQ(a.measures().contacts, b.measures().contacts);
+  const double fs = max_norm(a.forces()), ts = max_norm(a.torques());
+  const double df = max_diff(a.forces(), b.forces()), dtq = max_diff(a.torques(), b.torques());
+  std::printf("[ aspect 1 ] %lld contacts: max |dF|/max|F| %.2e, max |dT|/max|T| %.2e\n",
+              static_cast<long long>(a.measures().contacts), df / fs, dtq / ts);
+  EXPECT_LT(df, 1e-12 * fs);
+  EXPECT_LT(dtq, 1e-12 * ts);
+  // Per particle, where the resultant is not a cancellation residue.
+  for (std::size_t i = 0; i < a.forces().size(); ++i) {
+    const double f = norm(a.forces()[i]);
+    if (f > 1e-3 * fs) {
+      EXPECT_LT(norm(a.forces()[i] - b.forces()[i]), 1e-12 * f) << i;
+    }
+  }
+  // The step that followed: rigid-body rotation with I1 = I2 = I3 (to
+  // rounding) is the scalar-inertia update.
+  EXPECT_LT(max_diff(a.particles().omega, b.particles().omega), 1e-12 * max_norm(a.particles().omega));
+  EXPECT_LT(max_diff(a.particles().velocity, b.particles().velocity), 1e-12 * max_norm(a.particles().velocity));
+  EXPECT_EQ(b.spheroid_contact_stats().fallbacks, 0u);
+}
+
+// ---- step 3: rotation through the simulation ---------------------------------------
+
+TEST(SpheroidRotation, FreeTiltedSpinnerKeepsAngularMomentumAndPrecessesAtLOverIperp) {
+  // Two spheroids far apart, one spinning about an axis tilted from its
+  // symmetry axis: torque-free, undamped. L (world) is conserved and the
+  // symmetry axis precesses about L at |L| / I_perp (eq. 43, rigid_rotation.h).
+  PairScene s;
+  const double a = 1.2e-3, b = 1e-3;
+  const Quaternion q0 = axis_rotation({0, 1, 0}, 0.5);
+  const Vec3 w0{12000, 3000, -1500};
+  add_at(s, 0, a, b, q0, {0.005, 0.005, 0.005}, {}, w0);
+  add_at(s, 1, a, b, {}, {0.015, 0.015, 0.015});
+  Simulation sim(std::move(s.p), s.cell, vt::test::undamped(0.1, 0.0));
+  const Particles& p = sim.particles();
+  const Vec3 inertia = p.inertia[0];
+  const Vec3 l0 = angular_momentum_world(q0, w0, inertia);
+  const Vec3 e0 = q0.rotate(Vec3{1, 0, 0});
+  const std::int64_t n = 20000;
+  double max_dl = 0;
+  // Precession: the axis component across L turns about L at |L|/I_perp.
+  const Vec3 lhat = (1.0 / norm(l0)) * l0;
+  const Vec3 u0 = e0 - dot(e0, lhat) * lhat;
+  double turned = 0;
+  Vec3 u_prev = u0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    ASSERT_TRUE(sim.step(false));
+    const Vec3 l = angular_momentum_world(p.orientation[0], p.omega[0], inertia);
+    max_dl = std::max(max_dl, norm(l - l0) / norm(l0));
+    const Vec3 e = p.orientation[0].rotate(Vec3{1, 0, 0});
+    const Vec3 u = e - dot(e, lhat) * lhat;
+    turned += std::atan2(dot(cross(u_prev, u), lhat), dot(u_prev, u));
+    u_prev = u;
+  }
+  const double expected = norm(l0) / inertia.y * sim.dt() * static_cast<double>(n);
+  std::printf("[ free spinner ] %lld steps: max |dL|/L %.1e, precession %.6f rad vs %.6f rad\n",
+              static_cast<long long>(n), max_dl, turned, expected);
+  EXPECT_LT(max_dl, 1e-10);  // rounding of the omega <-> L conversions only
+  EXPECT_NEAR(turned, expected, 1e-9 * expected);
+  EXPECT_GT(expected, 2 * M_PI) << "at least one full precession";
+}
+
+// ---- acceptance (c, d): undamped frictionless spheroid gas --------------------------
+
+namespace {
+
+struct GasRun {
+  double max_rel_error = 0;   ///< max |E - E0| / E0, E = kinetic (both) + elastic
+  double drift = 0;           ///< mean error, second half minus first half
+  std::int64_t contacts_seen = 0;
+  double rotational_share = 0;  ///< mean E_rot / E
+  SpheroidContactStats stats;
+  double seconds = 0;
+};
+
+/// 200 spheroids of aspect 1.2 (nominal radii 0.8-1.2 mm / 1.2^(1/3)),
+/// compressed (damped, frictionless) from a loose cloud to void ratio 1.6,
+/// then given random velocities (10 m/s) and spins (2000 rad/s) in a fixed
+/// cell: a dense gas, as the sphere gas of test_energy_conservation.
+SimulationState dense_spheroid_gas(double ct) {
+  vt::test::CloudScene sc = vt::test::spheroid_cloud(200, 1.2, 1.6, 3);
+  SimulationSettings s = vt::test::undamped(ct, 0.0);
+  s.damping = MassDamping(DampingModel::ND, 0.1);
+  Simulation prep(std::move(sc.particles), sc.cell, s);
+  prep.set_strain_rates(Vec3{-1, -1, -1} * (3e-4 / prep.time_scale().t0));
+  while (prep.particles().solid_volume() * 2.6 < prep.cell().volume()) EXPECT_EQ(prep.run(10), 10);
+  SimulationState st = prep.state();
+  vt::test::randomize_velocities(st.particles, 10.0, 2000.0, 11);
+  st.velocity_gradient = Mat3{};
+  st.settings.damping = MassDamping(DampingModel::OD, 0.0);
+  st.settings.check_interval = 1000000;
+  st.energy = EnergyBudget{};
+  return st;
+}
+
+GasRun run_spheroid_gas(std::int64_t steps, double ct) {
+  Simulation sim(dense_spheroid_gas(ct));
+  const std::int64_t every = 50;
+  GasRun r;
+  double e0 = -1;
+  std::vector<double> errors;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::int64_t k = 0; k < steps; ++k) {
+    const bool meas = k % every == 0;
+    EXPECT_TRUE(sim.step(meas)) << sim.failure();
+    if (!meas) continue;
+    const Measures m = sim.measures();
+    const double e = m.energy.kinetic() + m.energy.elastic;
+    if (e0 < 0) e0 = e;
+    errors.push_back((e - e0) / e0);
+    r.max_rel_error = std::max(r.max_rel_error, std::fabs(errors.back()));
+    r.contacts_seen += m.contacts;
+    r.rotational_share += m.energy.kinetic_rotational / e;
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.rotational_share /= static_cast<double>(errors.size());
+  const std::size_t h = errors.size() / 2;
+  double a = 0, b = 0;
+  for (std::size_t i = 0; i < h; ++i) a += errors[i];
+  for (std::size_t i = h; i < 2 * h; ++i) b += errors[i];
+  r.drift = (b - a) / static_cast<double>(h);
+  r.stats = sim.spheroid_contact_stats();
+  return r;
+}
+
+}  // namespace
+
+TEST(SpheroidAcceptance, FrictionlessGasConservesEnergyWithoutFallbacks) {
+  const GasRun r = run_spheroid_gas(kGasSteps, 0.1);
+  std::printf("[ spheroid gas ] %lld steps at c_t 0.1 (%.1f s): max |dE|/E %.3g, drift %.3g, contacts seen %lld, "
+              "E_rot/E %.3f; solves %llu, warm %llu, iterations/solve %.2f, fallbacks %llu, failures %llu\n",
+              static_cast<long long>(kGasSteps), r.seconds, r.max_rel_error, r.drift,
+              static_cast<long long>(r.contacts_seen), r.rotational_share,
+              static_cast<unsigned long long>(r.stats.solves), static_cast<unsigned long long>(r.stats.warm_starts),
+              static_cast<double>(r.stats.iterations) / static_cast<double>(r.stats.solves),
+              static_cast<unsigned long long>(r.stats.fallbacks), static_cast<unsigned long long>(r.stats.failures));
+  EXPECT_GT(r.contacts_seen, 1000) << "the gas must collide";
+  EXPECT_GT(r.rotational_share, 0.05) << "rotation must take part";
+  EXPECT_LT(r.max_rel_error, kGasTolerance);
+  EXPECT_LT(std::fabs(r.drift), 0.25 * kGasTolerance) << "secular drift";
+  EXPECT_EQ(r.stats.fallbacks, 0u);
+  EXPECT_EQ(r.stats.failures, 0u);
+}
+
+TEST(SpheroidAcceptance, GasEnergyErrorFallsWithTheTimeStep) {
+  // Same physical time (2000 T0) at c_t 0.1 and 0.05: the leapfrog error is O(dt^2).
+  const GasRun coarse = run_spheroid_gas(20000, 0.1);
+  const GasRun fine = run_spheroid_gas(40000, 0.05);
+  std::printf("[ spheroid gas ] max |dE|/E over 2000 T0: c_t 0.1 %.3g, c_t 0.05 %.3g (ratio %.2f)\n",
+              coarse.max_rel_error, fine.max_rel_error, coarse.max_rel_error / fine.max_rel_error);
+  EXPECT_LT(fine.max_rel_error, 0.5 * coarse.max_rel_error);
+}
+
+// ---- step 5: restart and determinism ------------------------------------------------
+
+namespace {
+
+SimulationState loaded_spheroid_packing() {
+  vt::test::CloudScene sc = vt::test::spheroid_cloud(300, 1.2, 1.8, 5);
+  SimulationSettings s = vt::test::undamped(0.3, 0.5);
+  s.damping = MassDamping(DampingModel::ND, 0.1);
+  Simulation sim(std::move(sc.particles), sc.cell, s);
+  sim.set_strain_rates(Vec3{-1, -1, -1} * (3e-4 / sim.time_scale().t0));
+  // compress until the contact network holds 1.3 contacts per particle
+  std::int64_t k = 0, contacts = 0;
+  for (; k < kPackingSteps && contacts < 390; k += 100) {
+    EXPECT_EQ(sim.run(99), 99) << sim.failure();
+    EXPECT_TRUE(sim.step(true)) << sim.failure();
+    contacts = sim.measures().contacts;
+  }
+  std::printf("[ packing ] %lld steps, %lld contacts, e = %.3f, p = %.3g Pa\n", static_cast<long long>(k),
+              static_cast<long long>(contacts), sim.measures().void_ratio, sim.current_mean_stress());
+  const double r = 2e-4 / sim.time_scale().t0;
+  sim.set_strain_rates({0.5 * r, 0.5 * r, -r});
+  return sim.state();
+}
+
+void expect_same_state(const SimulationState& a, const SimulationState& b) {
+  EXPECT_TRUE(same_bits(a.particles.frac, b.particles.frac));
+  EXPECT_TRUE(same_bits(a.particles.velocity, b.particles.velocity));
+  EXPECT_TRUE(same_bits(a.particles.omega, b.particles.omega));
+  EXPECT_TRUE(same_bits(a.particles.orientation, b.particles.orientation));
+  ASSERT_EQ(a.contacts.size(), b.contacts.size());
+  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
+    EXPECT_EQ(a.contacts[k].id_a, b.contacts[k].id_a);
+    EXPECT_EQ(a.contacts[k].id_b, b.contacts[k].id_b);
+    EXPECT_EQ(0, std::memcmp(&a.contacts[k].spring, &b.contacts[k].spring, sizeof(Vec3)));
+    EXPECT_EQ(a.contacts[k].cache.valid, b.contacts[k].cache.valid);
+  }
+  EXPECT_EQ(0, std::memcmp(&a.h, &b.h, sizeof(Mat3)));
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_EQ(0, std::memcmp(&a.energy.boundary_work, &b.energy.boundary_work, sizeof(double)));
+  EXPECT_EQ(0, std::memcmp(&a.energy.damping, &b.energy.damping, sizeof(double)));
+  EXPECT_EQ(0, std::memcmp(&a.energy.friction, &b.energy.friction, sizeof(double)));
+}
+
+}  // namespace
+
+TEST(SpheroidRestart, ThroughASampleFileContinuesBitForBit) {
+  const SimulationState start = loaded_spheroid_packing();
+  {
+    Simulation probe(start);
+    ASSERT_TRUE(probe.step(true));
+    ASSERT_GT(probe.measures().contacts, 300) << "the test needs a loaded contact network";
+  }
+  Simulation straight(start);
+  ASSERT_EQ(straight.run(2000), 2000) << straight.failure();
+
+  Simulation first(start);
+  ASSERT_EQ(first.run(1000), 1000);
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("vt_spheroid_restart_" + std::to_string(getpid()) + ".h5")).string();
+  vt::io::write_sample(path, first.state(), vt::io::SampleMetadata{});
+  const SimulationState loaded = vt::io::read_sample(path);
+  std::filesystem::remove(path);
+  EXPECT_TRUE(same_bits(loaded.particles.orientation, first.state().particles.orientation));
+  std::size_t cached = 0;
+  for (const ContactHistory& c : loaded.contacts) cached += c.cache.valid ? 1 : 0;
+  EXPECT_GT(cached, 300u) << "warm-start normals travel with the sample";
+  Simulation second(loaded);
+  ASSERT_EQ(second.run(1000), 1000);
+  expect_same_state(straight.state(), second.state());
+  EXPECT_EQ(straight.spheroid_contact_stats().fallbacks, 0u);
+}
+
+TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
+  const SimulationState start = loaded_spheroid_packing();
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  Simulation one(start);
+  ASSERT_EQ(one.run(300), 300);
+  omp_set_num_threads(3);
+  Simulation three(start);
+  ASSERT_EQ(three.run(300), 300);
+  omp_set_num_threads(before);
+  expect_same_state(one.state(), three.state());
+}
