@@ -89,20 +89,31 @@ Quaternion random_orientation(RandomStream& rng) {
 
 namespace {
 
-/// Spheroid cloud: the sphere cloud of the bounding radii a = r k^(2/3),
+/// Spheroid cloud: the sphere cloud of the bounding radii a_i = r_i k_i^(2/3),
 /// at the void ratio that makes the spheroids' void ratio the requested one,
-/// then each sphere replaced by a spheroid (a, a/k) of random orientation.
-Cloud generate_spheroid_cloud(const CloudRequest& req) {
-  const double k = req.aspect_ratio;
-  const double grow = std::cbrt(k * k);  // a / r
+/// then each sphere replaced by a spheroid (a_i, a_i/k_i) of random
+/// orientation. The sphere generator places the bounding spheres largest
+/// first with ids in that order; k follows its sphere through the same
+/// stable descending sort.
+Cloud generate_spheroid_cloud(const CloudRequest& req, const std::vector<double>& k) {
   CloudRequest spheres = req;
   spheres.aspect_ratio = 1.0;
-  for (double& r : spheres.radii) r *= grow;
-  // V_box = (1 + e) V_spheroids = (1 + e) V_bounding / k^2
-  spheres.void_ratio = (1.0 + req.void_ratio) / (k * k) - 1.0;
+  spheres.aspect_ratios.clear();
+  double v_bound = 0.0, v_spheroid = 0.0;
+  std::vector<std::pair<double, double>> ak(req.radii.size());  // (a, k)
+  for (std::size_t i = 0; i < req.radii.size(); ++i) {
+    const double a = req.radii[i] * std::cbrt(k[i] * k[i]);
+    spheres.radii[i] = a;
+    ak[i] = {a, k[i]};
+    v_bound += sphere_volume(a);
+    v_spheroid += sphere_volume(a) / (k[i] * k[i]);
+  }
+  // V_box = (1 + e) V_spheroids = (1 + e_spheres) V_bounding
+  spheres.void_ratio = (1.0 + req.void_ratio) * v_spheroid / v_bound - 1.0;
   if (!(spheres.void_ratio > 0.0))
-    throw std::invalid_argument("initial_void_ratio: too small for the bounding spheres of aspect " +
-                                std::to_string(k) + " spheroids (need (1 + e) > k^2)");
+    throw std::invalid_argument("initial_void_ratio: too small for the bounding spheres of the spheroids "
+                                "(need (1 + e) V_spheroids > V_bounding)");
+  std::stable_sort(ak.begin(), ak.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
   Cloud c = generate_cloud(spheres);
   RandomStream rng(req.seed ^ 0x5851f42d4c957f2dULL);
   const Particles& p = c.particles;
@@ -110,7 +121,11 @@ Cloud generate_spheroid_cloud(const CloudRequest& req) {
   out.reserve(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double a = p.radius[i];
-    out.add_spheroid(p.id[i], a, a / k, req.density, p.frac[i], random_orientation(rng), {}, {}, p.material[i]);
+    const double ki = ak[static_cast<std::size_t>(p.id[i])].second;
+    if (ki == 1.0)
+      out.add_sphere(p.id[i], a, req.density, p.frac[i], {}, {}, p.material[i]);
+    else
+      out.add_spheroid(p.id[i], a, a / ki, req.density, p.frac[i], random_orientation(rng), {}, {}, p.material[i]);
   }
   c.particles = std::move(out);
   return c;
@@ -125,7 +140,18 @@ Cloud generate_cloud(const CloudRequest& req) {
   if (!(req.void_ratio > 0.0)) throw std::invalid_argument("initial_void_ratio: must be > 0");
   if (!(req.aspect_ratio >= 1.0 && std::isfinite(req.aspect_ratio)))
     throw std::invalid_argument("particles.aspect_ratio: must be >= 1 (prolate spheroids; 1 = spheres)");
-  if (req.aspect_ratio != 1.0) return generate_spheroid_cloud(req);
+  if (!req.aspect_ratios.empty() && req.aspect_ratios.size() != req.radii.size())
+    throw std::invalid_argument("particles.aspect_ratios: one per particle (" + std::to_string(req.radii.size()) +
+                                "), got " + std::to_string(req.aspect_ratios.size()));
+  std::vector<double> k = req.aspect_ratios.empty() ? std::vector<double>(req.radii.size(), req.aspect_ratio)
+                                                    : req.aspect_ratios;
+  bool any = false;
+  for (double ki : k) {
+    if (!(ki >= 1.0 && std::isfinite(ki)))
+      throw std::invalid_argument("particles.aspect_ratio: must be >= 1 (prolate spheroids; 1 = spheres)");
+    any = any || ki != 1.0;
+  }
+  if (any) return generate_spheroid_cloud(req, k);
   for (int a = 0; a < 3; ++a)
     if (!(req.aspect[a] > 0.0)) throw std::invalid_argument("cell.aspect: must be > 0");
   std::vector<double> sorted = req.radii;

@@ -1,5 +1,7 @@
 #include "virtual_triaxial/io/psd_file.h"
 
+#include "virtual_triaxial/dem/cloud_generator.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -186,6 +188,22 @@ std::vector<std::pair<double, double>> nominal_radius_table(const Psd& psd) {
   std::vector<std::pair<double, double>> out;
   out.reserve(psd.types.size());
   for (const auto& t : psd.types) out.emplace_back(nominal_radius(t), t.fraction);
+  return out;
+}
+
+PsdParticles psd_particles(const Psd& psd, std::int64_t count) {
+  PsdParticles out;
+  out.radii = dem::table_radii(count, nominal_radius_table(psd));
+  out.aspect_ratios.reserve(out.radii.size());
+  for (double r : out.radii) {
+    double k = 1.0;
+    for (const PsdType& t : psd.types)
+      if (nominal_radius(t) == r) {  // the same computation as in the table: exact
+        k = t.major_semi_axis / t.minor_semi_axis;
+        break;
+      }
+    out.aspect_ratios.push_back(k);
+  }
   return out;
 }
 

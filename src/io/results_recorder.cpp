@@ -60,6 +60,11 @@ void ResultsRecorder::finish(const protocol::RunReport& r, const RunContext& ctx
     txt["quasi_static"] = r.shear.quasi_static ? "yes" : "no";
   }
   num["energy_relative_balance_error"] = ctx.energy_relative_balance_error;
+  if (ctx.spheroid_contact_solves > 0) {
+    num["spheroid_contact_solves"] = static_cast<double>(ctx.spheroid_contact_solves);
+    num["spheroid_contact_fallbacks"] = static_cast<double>(ctx.spheroid_contact_fallbacks);
+    num["spheroid_contact_failures"] = static_cast<double>(ctx.spheroid_contact_failures);
+  }
   if (!r.stages.empty()) {
     std::string names, reasons;
     for (const protocol::StageOutcome& s : r.stages) {

@@ -37,6 +37,10 @@ RunContext run_context(const dem::Simulation& sim) {
   c.dt = sim.dt();
   c.l0 = sim.time_scale().l0;
   c.energy_relative_balance_error = sim.energy().relative_balance_error();
+  const dem::SpheroidContactStats& st = sim.spheroid_contact_stats();
+  c.spheroid_contact_solves = static_cast<std::int64_t>(st.solves);
+  c.spheroid_contact_fallbacks = static_cast<std::int64_t>(st.fallbacks);
+  c.spheroid_contact_failures = static_cast<std::int64_t>(st.failures);
   return c;
 }
 
@@ -62,6 +66,10 @@ std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx
       << ",\"quasi_static_threshold\":" << number(r.shear.quasi_static_threshold)
       << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false");
   }
+  if (ctx.spheroid_contact_solves > 0)
+    o << ",\"spheroid_contact_solves\":" << ctx.spheroid_contact_solves
+      << ",\"spheroid_contact_fallbacks\":" << ctx.spheroid_contact_fallbacks
+      << ",\"spheroid_contact_failures\":" << ctx.spheroid_contact_failures;
   o << ",\"energy_relative_balance_error\":" << number(ctx.energy_relative_balance_error)
     << ",\"results\":" << quoted(results) << "}";
   return o.str();

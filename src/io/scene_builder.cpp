@@ -42,6 +42,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       req.density = scene.material.density;
       req.aspect = scene.cell_aspect;
       req.void_ratio = d.initial_void_ratio;
+      req.aspect_ratio = d.aspect_ratio;
       req.seed = d.seed;
       dem::Cloud cloud = dem::generate_cloud(req);
       return dem::Simulation(std::move(cloud.particles), cloud.cell, settings);

@@ -73,7 +73,10 @@ void parse_material(const YAML::Node& node, dem::Material& m) {
 
 void parse_distribution(const YAML::Node& node, DistributionSpec& d) {
   const Section s(node, "particles.distribution",
-                  {"count", "radius_min", "radius_max", "types", "seed", "initial_void_ratio"});
+                  {"count", "radius_min", "radius_max", "types", "seed", "initial_void_ratio", "aspect_ratio"});
+  d.aspect_ratio = s.number_or("aspect_ratio", d.aspect_ratio);
+  require(d.aspect_ratio >= 1.0, s.path("aspect_ratio"),
+          "must be >= 1 (a/b of prolate spheroids; 1 = spheres), got " + num(d.aspect_ratio));
   d.count = s.integer("count");
   require(d.count >= 2, s.path("count"), "must be an integer >= 2, got " + std::to_string(d.count));
 

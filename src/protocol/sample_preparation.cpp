@@ -61,6 +61,7 @@ class Preparer {
     const auto t = Clock::now();
     dem::CloudRequest req;
     req.radii = s_.radii;
+    req.aspect_ratios = s_.aspect_ratios;
     req.density = s_.material.density;
     req.aspect = s_.aspect;
     req.void_ratio = s_.initial_void_ratio;
@@ -204,6 +205,10 @@ std::string PreparationSettings::validate() const {
   if (radii.size() < 2) return "particles: at least 2 particles are needed";
   for (double r : radii)
     if (!(r > 0.0 && std::isfinite(r))) return "psd: radii must be finite and > 0";
+  if (!aspect_ratios.empty() && aspect_ratios.size() != radii.size())
+    return "aspect_ratios: one per particle or none";
+  for (double k : aspect_ratios)
+    if (!(k >= 1.0 && std::isfinite(k))) return "aspect_ratios: must be >= 1 (prolate spheroids; 1 = sphere)";
   const std::string m = material.validate();
   if (!m.empty()) return "material." + m;
   if (!(pressure > 0.0 && std::isfinite(pressure))) return "pressure: must be a finite number > 0 Pa";

@@ -1,9 +1,12 @@
 // triax_prepare --psd FILE --pressure PA --mu1 MU --seed S --out sample.h5
-//               [--aspect 1,1,1] [--particles N] [--target-void-ratio E]
+//               [--aspect 1,1,1] [--particles N] [--shape psd|sphere] [--target-void-ratio E]
 //               [--e-min E --e-max E] [--damping-ratio XI] [--young-modulus PA]
 //               [--poisson-ratio NU] [--density RHO] [--friction MU_FINAL] [--quiet]
 // Material flags default to rho 2650 kg/m^3, E 70 GPa, nu 0.3, final mu 0.5;
 // `--damping-ratio` is the OD ratio of every phase (default 0.003).
+// `--shape psd` (default) prepares the PSD's own shapes: prolate spheroids
+// (chapter 4, random orientations) for types with a > b; `--shape sphere`
+// replaces every type by the sphere of equal volume.
 //
 // Prepares a sample with the automatic three-phase method (chapter 4.3):
 // prints progress per phase and a summary; the last stdout line is JSON.
@@ -61,6 +64,7 @@ struct Args {
   bool has_seed = false, quiet = false;
   vt::dem::Vec3 aspect{1, 1, 1};
   long particles = 1000;
+  std::string shape = "psd";  ///< psd: the PSD's own shapes (spheroids where a > b); sphere: equal-volume spheres
 };
 
 Args parse(int argc, char** argv) {
@@ -84,6 +88,12 @@ Args parse(int argc, char** argv) {
     else if (f == "--density") a.material.density = number(f, val());
     else if (f == "--friction") a.material.friction = number(f, val());
     else if (f == "--aspect") a.aspect = triple(f, val());
+    else if (f == "--shape") {
+      a.shape = val();
+      if (a.shape != "psd" && a.shape != "sphere")
+        throw BadArg("--shape: expected psd (the PSD's spheroids) or sphere (equal-volume spheres), got '" + a.shape +
+                     "'");
+    }
     else if (f == "--particles") {
       const double n = number(f, val());
       if (n != std::floor(n) || n < 2 || n > 1e8) throw BadArg("--particles: must be an integer >= 2");
@@ -118,7 +128,7 @@ Args parse(int argc, char** argv) {
 
 int usage_error(const std::string& msg) {
   std::fprintf(stderr, "triax_prepare: error: %s\nusage: triax_prepare --psd FILE --pressure PA --mu1 MU --seed S "
-                       "--out sample.h5 [--aspect 1,1,1] [--particles N] [--target-void-ratio E] "
+                       "--out sample.h5 [--aspect 1,1,1] [--particles N] [--shape psd|sphere] [--target-void-ratio E] "
                        "[--e-min E --e-max E] [--damping-ratio XI] [--young-modulus PA] [--poisson-ratio NU] [--density RHO] "
                        "[--friction MU_FINAL] [--quiet]\n",
                msg.c_str());
@@ -139,7 +149,15 @@ int main(int argc, char** argv) {
     return usage_error(std::string("--psd ") + a.psd + ": " + e.what());
   }
   vt::protocol::PreparationSettings s;
-  s.radii = vt::dem::table_radii(a.particles, vt::io::nominal_radius_table(psd));
+  {
+    vt::io::PsdParticles pp = vt::io::psd_particles(psd, a.particles);
+    s.radii = std::move(pp.radii);
+    if (a.shape == "psd") {
+      bool any = false;
+      for (double k : pp.aspect_ratios) any = any || k != 1.0;
+      if (any) s.aspect_ratios = std::move(pp.aspect_ratios);
+    }
+  }
   s.material = a.material;
   s.pressure = a.pressure;
   s.aspect = a.aspect;

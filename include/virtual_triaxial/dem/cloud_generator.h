@@ -31,6 +31,9 @@ struct CloudRequest {
   std::uint64_t seed = 1;
   int attempts_per_particle = 2000;
   double aspect_ratio = 1.0;      ///< spheroid a/b >= 1; 1 = spheres
+  /// Per-particle a/b (same order as radii; overrides aspect_ratio when not
+  /// empty), e.g. from a PSD whose types have different aspect ratios.
+  std::vector<double> aspect_ratios;
 };
 
 struct Cloud {

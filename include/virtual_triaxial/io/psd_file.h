@@ -37,6 +37,7 @@
 // depend on the length unit or on an overall scale of the sizes.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -73,6 +74,15 @@ double nominal_radius(const PsdType& type);
 
 /// (nominal radius [m], number fraction) for each type, in file order.
 std::vector<std::pair<double, double>> nominal_radius_table(const Psd& psd);
+
+/// `count` particles drawn from the PSD exactly as
+/// dem::table_radii(count, nominal_radius_table(psd)) does, each with the
+/// aspect ratio a/b of its type (1 for spheres), in the same order.
+struct PsdParticles {
+  std::vector<double> radii;          ///< nominal radius [m]
+  std::vector<double> aspect_ratios;  ///< a/b >= 1
+};
+PsdParticles psd_particles(const Psd& psd, std::int64_t count);
 
 /// Dispersity index (eq. 80) of a PSD, mass of a type ~ number fraction x
 /// a b^2. Throws std::invalid_argument for an empty PSD or a type with a

@@ -1,6 +1,7 @@
 // The one-line JSON summary triax_run prints last on stdout.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "virtual_triaxial/dem/simulation.h"
@@ -14,6 +15,9 @@ struct RunContext {
   std::size_t particles = 0;
   double t0 = 0, dt = 0, l0 = 0;               ///< [s], [s], [m]
   double energy_relative_balance_error = 0;    ///< [1]
+  /// Spheroid contact solver over the run (spheroid_contact.h); -1 = unknown
+  /// (the rig's protocol node does not see them).
+  std::int64_t spheroid_contact_solves = -1, spheroid_contact_fallbacks = -1, spheroid_contact_failures = -1;
 };
 RunContext run_context(const dem::Simulation& sim);
 

@@ -40,6 +40,7 @@ struct DistributionSpec {
   std::vector<ParticleType> types;
   std::uint64_t seed = 1;
   double initial_void_ratio = 3.0;  ///< loose cloud: cell volume = (1+e) V_solids
+  double aspect_ratio = 1.0;        ///< a/b of every particle: prolate spheroids of the nominal radius; 1 = spheres
 };
 
 enum class ParticleSource { Distribution, List, SampleFile };

@@ -32,6 +32,10 @@ namespace vt::protocol {
 
 struct PreparationSettings {
   std::vector<double> radii;            ///< nominal radius per particle [m]
+  /// Spheroid aspect ratio a/b >= 1 per particle (same order as radii);
+  /// empty = all spheres. Each becomes a prolate spheroid of nominal radius
+  /// radii[i] and random orientation (dem::generate_cloud).
+  std::vector<double> aspect_ratios;
   dem::Material material;               ///< friction = final value (default 0.5)
   double mu1 = 0.3;                     ///< friction during shrinkage
   double pressure = 100e3;              ///< target stress on every axis [Pa]
