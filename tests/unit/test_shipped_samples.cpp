@@ -38,5 +38,5 @@ TEST(ShippedSamples, LoadAndMeetThePreparationCriteria) {
       EXPECT_GT(m.void_ratio, 0.70) << name;
     }
   }
-  EXPECT_EQ(n, 4) << "config/samples holds four samples";
+  EXPECT_EQ(n, 5) << "config/samples holds five samples (four of spheres, one of spheroids)";
 }
