@@ -28,6 +28,8 @@ VT_DEB_PACKAGES=(
   python3-rostest librostest-dev rosbash ros-std-srvs libhdf5-dev
   libeigen3-dev libyaml-cpp-dev python3-numpy python3-h5py python3-matplotlib
   hdf5-tools libbenchmark-dev googletest
+  # process and socket tools the entry scripts and their tests use
+  procps iproute2
   # toolchain (normally present; a bare CI image may lack it)
   cmake make g++
 )
