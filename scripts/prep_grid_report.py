@@ -73,6 +73,10 @@ def parse_args():
     ap.add_argument("--shape", choices=["sphere", "psd"], default="sphere",
                     help="sphere: equal-volume spheres (the report in reports/prep_grid); "
                          "psd: the PSD's own spheroids (aspect 1.2 for mono_0.48mm)")
+    ap.add_argument("--compare", default="",
+                    help="another grid.csv (e.g. reports/prep_grid/grid.csv, spheres) drawn dotted beside this grid")
+    ap.add_argument("--replot", action="store_true",
+                    help="only redraw the figures and the table from the grid.csv in --out-dir (no preparation)")
     ap.add_argument("--quick", action="store_true",
                     help="2x2 subset (mu1 0, 0.5 x 390, 39000 kPa) for testing")
     ap.add_argument("--program", default=PROGRAM, help="triax_prepare executable")
@@ -166,13 +170,18 @@ def series(rows, p_kpa, key):
     return np.array([a for a, _ in pts]), np.array([b for _, b in pts])
 
 
-def plot(rows, pressures, mu1s, key, ylabel, title, path, scale=1.0, table49=None):
+def plot(rows, pressures, mu1s, key, ylabel, title, path, scale=1.0, table49=None, shape="spheres",
+         compare=None, compare_shape="spheres"):
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for i, p in enumerate(pressures):
         x, y = series(rows, p, key)
         c = colors[i % len(colors)]
-        ax.plot(x, y * scale, "o-", color=c, label=f"{p:g} kPa (spheres)")
+        ax.plot(x, y * scale, "o-", color=c, label=f"{p:g} kPa ({shape})")
+        if compare:
+            cx, cy = series(compare, p, key)
+            if len(cx):
+                ax.plot(cx, cy * scale, "^:", color=c, alpha=0.7, label=f"{p:g} kPa ({compare_shape})")
         if table49 and p in table49:
             tx = [m for m in mu1s if round(m, 4) in table49[p]]
             ty = [table49[p][round(m, 4)] for m in tx]
@@ -181,7 +190,7 @@ def plot(rows, pressures, mu1s, key, ylabel, title, path, scale=1.0, table49=Non
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, ncol=2 if table49 else 1)
+    ax.legend(fontsize=7, ncol=2 if (table49 or compare) else 1)
     fig.tight_layout()
     fig.savefig(path, dpi=130)
     plt.close(fig)
@@ -206,7 +215,10 @@ def main():
     rows = []
     t_start = time.monotonic()
     tmp = tempfile.mkdtemp(prefix="prep_grid_")
-    if args.retry_failed:
+    if args.replot:
+        rows = read_csv(csv_path)
+        n = len(rows)
+    elif args.retry_failed:
         rows = read_csv(csv_path)
         todo = [i for i, r in enumerate(rows) if not r["converged"]]
         print(f"prep_grid_report: retrying {len(todo)} failed preparations from {csv_path}", flush=True)
@@ -219,7 +231,7 @@ def main():
         n = len(rows)
     try:
         k = 0
-        for p in ([] if args.retry_failed else pressures):
+        for p in ([] if (args.retry_failed or args.replot) else pressures):
             for mu1 in mu1s:
                 k += 1
                 print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa ...", flush=True)
@@ -241,15 +253,19 @@ def main():
             shutil.rmtree(tmp, ignore_errors=True)
     total = time.monotonic() - t_start
 
+    shape = "spheres" if args.shape == "sphere" else "spheroids 1.2" if "mono_0.48" in args.psd else "PSD shapes"
+    compare = read_csv(args.compare) if args.compare else None
+    compare_shape = "spheres" if args.shape != "sphere" else "other grid"
+    extra = dict(shape=shape, compare=compare, compare_shape=compare_shape)
     plot(rows, pressures, mu1s, "e0", "void ratio, $e_0$",
-         f"Void ratio vs $\\mu_1$ (fig. 11 analogue), {args.particles} spheres",
-         os.path.join(args.out_dir, "void_ratio_vs_mu1.png"), table49=table49)
+         f"Void ratio vs $\\mu_1$ (fig. 11 analogue), {args.particles} {shape}",
+         os.path.join(args.out_dir, "void_ratio_vs_mu1.png"), table49=table49, **extra)
     plot(rows, pressures, mu1s, "coordination_number", "mechanical coordination number, Z",
-         f"Coordination number vs $\\mu_1$ (fig. 15 analogue), {args.particles} spheres",
-         os.path.join(args.out_dir, "coordination_vs_mu1.png"))
+         f"Coordination number vs $\\mu_1$ (fig. 15 analogue), {args.particles} {shape}",
+         os.path.join(args.out_dir, "coordination_vs_mu1.png"), **extra)
     plot(rows, pressures, mu1s, "idle_mass_fraction", "idle particles (% by mass)",
-         f"Idle particles vs $\\mu_1$ (fig. 17 analogue), {args.particles} spheres",
-         os.path.join(args.out_dir, "idle_fraction_vs_mu1.png"), scale=100.0)
+         f"Idle particles vs $\\mu_1$ (fig. 17 analogue), {args.particles} {shape}",
+         os.path.join(args.out_dir, "idle_fraction_vs_mu1.png"), scale=100.0, **extra)
 
     print("\n| mu1 | p (kPa) | e0 | e table 49 | e0 - e49 | Z | idle (% mass) | steps | wall (s) |")
     print("|---|---|---|---|---|---|---|---|---|")
