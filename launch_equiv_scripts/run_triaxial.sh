@@ -3,6 +3,7 @@
 #
 #   launch_equiv_scripts/run_triaxial.sh [PROTOCOL.yaml]
 #   OUT=output/mine SERVO_NODE=py_servo_controller.py launch_equiv_scripts/run_triaxial.sh
+#   RECORD=0 ...   no rosbag recording (and no bag plots), e.g. to time the rig alone
 #
 # Default protocol: config/protocols/drained_100kPa.yaml (the shipped dense
 # 1000-sphere sample, servo consolidation at 100 kPa, drained shear at
@@ -89,15 +90,17 @@ roslaunch virtual_triaxial protocol_rig.launch sample:="${protocol}" output_dir:
   publish_every:="${interval}" servo_gain:="${gain}" servo_max_dimensionless_rate:="${max_rate}" \
   servo_strategy:="${strategy}" servo_node:="${servo_node}" >"${ROS_HOME}/rig.log" 2>&1 &
 pids+=("$!")
-nice -n 10 rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
-bag_pid=$!
-pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages
-
-# The test starts once the recorder subscribes to the rig's state topics.
-for _ in $(seq 1 150); do
-  rostopic info /protocol_status 2>/dev/null | grep -q record && rostopic info /stress 2>/dev/null | grep -q record && break
-  sleep 0.2
-done
+record="${RECORD:-1}"
+if [[ "${record}" != 0 ]]; then
+  nice -n 10 rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
+  bag_pid=$!
+  pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages
+  # The test starts once the recorder subscribes to the rig's state topics.
+  for _ in $(seq 1 150); do
+    rostopic info /protocol_status 2>/dev/null | grep -q record && rostopic info /stress 2>/dev/null | grep -q record && break
+    sleep 0.2
+  done
+fi
 
 echo "[rig] running ${protocol}"
 rc=0
@@ -106,7 +109,9 @@ sleep 1  # let the recorder write the last messages
 cleanup
 
 echo "[rig] plots"
-/usr/bin/python3 scripts/bag_report.py "${out}"/rig*.bag --out "${out}/plots" || echo "[rig] warning: bag_report failed" >&2
+if [[ "${record}" != 0 ]]; then
+  /usr/bin/python3 scripts/bag_report.py "${out}"/rig*.bag --out "${out}/plots" || echo "[rig] warning: bag_report failed" >&2
+fi
 if [[ -f "${out}/results.h5" ]]; then
   /usr/bin/python3 scripts/plot_results.py "${out}/results.h5" || echo "[rig] warning: plot_results failed" >&2
 fi
