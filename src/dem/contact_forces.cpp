@@ -56,7 +56,7 @@ struct PairInputs {
   std::uint8_t* active;
   // spheroid path only (null/unused for spheres)
   const Vec3* axes;
-  const Quaternion* orient;
+  const SpheroidSupport* body;  // per particle, this evaluation
   const Shape* shape;
   SpheroidPairState* sph;
   Mat3 h, lgrad;
@@ -168,9 +168,10 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 }
 
 /// Pairs owned by particles [i_begin, i_end) when the particles include
-/// spheroids. Pass 1 keeps the pairs whose bounding spheres (radius a)
-/// overlap and drops the solver cache of every other pair (so the cache of a
-/// pair depends only on its own history while in reach: a restart, which
+/// spheroids (in.body: SpheroidSupport of every particle, this evaluation).
+/// Pass 1 keeps the pairs whose bounding spheres (radius a) overlap and
+/// drops the solver cache of every other pair (so the cache of a pair
+/// depends only on its own history while in reach: a restart, which
 /// rebuilds the list, continues bit for bit). Pass 2, in list order: a
 /// sphere-sphere pair takes the closed form (delta = R_i + R_j - |d|,
 /// n = d/|d|, contact point x_i + (R_i - delta/2) n); any pair with a
@@ -195,6 +196,12 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // Pass 1: bounding-sphere test for every listed pair.
   std::int32_t nc = 0, ns = 0;
   for (std::int32_t e = e_begin; e < e_end; ++e) {
+    if (e + kPrefetchEntries < e_end) {
+      const std::int32_t jp = in.partner[e + kPrefetchEntries];
+      __builtin_prefetch(in.frac + jp);
+      __builtin_prefetch(in.axes + jp);
+      __builtin_prefetch(in.body + jp);
+    }
     const std::int32_t i = in.owner[e];
     const std::int32_t j = in.partner[e];
     Vec3 ds = in.frac[j] - in.frac[i];
@@ -206,10 +213,15 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const double reach = in.axes[i].x + in.axes[j].x;
     const bool in_reach = dist2 < reach * reach;
     c_entry[nc] = e;
-    c_branch[nc] = d;
+    c_branch[nc].x = d.x;  // by component: a whole-Vec3 copy went through a
+    c_branch[nc].y = d.y;  // stack slot (store-forwarding stall)
+    c_branch[nc].z = d.z;
     c_dist2[nc] = dist2;
     nc += in_reach ? 1 : 0;
-    if (!in_reach) in.sph[e].cache.reset();
+    // out of reach: cache.reset(), without a branch (the test is a coin flip)
+    SpheroidContactCache& cache = in.sph[e].cache;
+    cache.valid = cache.valid && in_reach;
+    cache.has_previous = cache.has_previous && in_reach;
     s_entry[ns] = e;
     ns += static_cast<std::int32_t>(in.active[e]) & static_cast<std::int32_t>(!in_reach);
     in.active[e] = 0;  // contacts set it again in pass 2
@@ -218,7 +230,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const std::int32_t e = s_entry[k];
     in.state[e] = PairState{};
     in.spring[e] = Vec3{};
-    in.sph[e].torque_i = in.sph[e].torque_j = Vec3{};
+    in.sph[e].torque_i = Vec3{};
   }
 
   // Pass 2: the pairs in reach, in list order.
@@ -226,6 +238,12 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   std::int64_t contacts = 0;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
   for (std::int32_t c = 0; c < nc; ++c) {
+    if (c + kPrefetchContacts < nc) {
+      const std::int32_t ep = c_entry[c + kPrefetchContacts];
+      __builtin_prefetch(in.body + in.partner[ep]);
+      __builtin_prefetch(in.state + ep, 1);
+      __builtin_prefetch(in.sph + ep, 1);
+    }
     const std::int32_t e = c_entry[c];
     const std::int32_t i = in.owner[e];
     const std::int32_t j = in.partner[e];
@@ -239,8 +257,8 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       nrm = (1.0 / dist) * d;
       cpt = (in.rad[i] - 0.5 * delta) * nrm;
     } else {
-      const Spheroid si = Spheroid::from_semi_axes(in.axes[i], in.orient[i]);
-      const Spheroid sj = Spheroid::from_semi_axes(in.axes[j], in.orient[j]);
+      const SpheroidSupport& si = in.body[i];
+      const SpheroidSupport& sj = in.body[j];
       SpheroidContactCache& cache = in.sph[e].cache;
       // Separation certificate along the last normal (or the centre line):
       // g(n) < 0 proves delta < 0, so no solve; the cache is kept as it is.
@@ -259,7 +277,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     if (!(delta > 0.0)) {  // in reach, not in contact
       st = PairState{};
       in.spring[e] = Vec3{};
-      sp.torque_i = sp.torque_j = Vec3{};
+      sp.torque_i = Vec3{};
       continue;
     }
     // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
@@ -274,11 +292,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
     const Vec3& f = r.force_on_j;
     st.force = f;
-    st.moment_axis = Vec3{};  // moments are in sp (the sphere gather is not used)
+    st.moment_axis = cross(cj, f);  // here: the moment on j (see SpheroidPairState)
     st.half_overlap = 0.5 * delta;
     in.active[e] = 1;
     sp.torque_i = cross(f, cpt);  // c x (-F_on_j)
-    sp.torque_j = cross(cj, f);
     ++contacts;
     vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
     vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
@@ -309,16 +326,17 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const std::int32_t nchunks = chunk_count(n);
   chunk_sums_.assign(static_cast<std::size_t>(nchunks), ContactSums{});
   PairData& pd = list.pairs();
-  const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
-                      p.radius.data(),   list.offsets().data(), list.owners().data(),
-                      pd.partner.data(), pd.spring.data(),      pd.state.data(),
-                      pd.active.data(),  p.semi_axes.data(),    p.orientation.data(),
-                      p.shape.data(),    pd.spheroid.data(),    cell.h(),
-                      cell.velocity_gradient(),                 law,
-                      dt};
   const bool spheroids = list.has_spheroids();
   if (spheroids && pd.spheroid.size() != pd.size())
     throw std::logic_error("contact forces: neighbour list without spheroid pair states");
+  if (spheroids) bodies_.resize(n);
+  const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
+                      p.radius.data(),   list.offsets().data(), list.owners().data(),
+                      pd.partner.data(), pd.spring.data(),      pd.state.data(),
+                      pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
+                      p.shape.data(),    pd.spheroid.data(),    cell.h(),
+                      cell.velocity_gradient(),                 law,
+                      dt};
   ContactSums* sums = chunk_sums_.data();
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
@@ -338,6 +356,17 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
+    if (spheroids) {
+      // Support data of every particle (symmetry axis e = q (1,0,0)): one
+      // rotation per particle instead of one per particle and pair.
+      const Vec3* axes = p.semi_axes.data();
+      const Quaternion* orient = p.orientation.data();
+      SpheroidSupport* body = bodies_.data();
+#pragma omp for schedule(static, kChunkSize)
+      for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i)
+        body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
+      // (implicit barrier)
+    }
 #pragma omp for schedule(dynamic, 1)
     for (std::int32_t c = 0; c < nchunks; ++c) {
       const std::int32_t i_begin = c * kChunkSize;
@@ -365,17 +394,21 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     // f and t unchanged bit for bit (a sum that starts at +0 and only adds or
     // subtracts is never -0), so the loop has no unpredictable branch.
     if (spheroids) {
-      // Same order; the moments come from the spheroid pair states.
+      // Same order; the moment on the partner is in the pair state (one
+      // line for the entries of other particles), the one on the owner in the
+      // spheroid pair state (own entries: consecutive in the list).
       const SpheroidPairState* sps = pd.spheroid.data();
 #pragma omp for schedule(static, kChunkSize)
       for (std::int32_t i = 0; i < ni; ++i) {
+        const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+        for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
         Vec3 f{}, t{};
         std::int32_t g = goff[i];
         const std::int32_t g_end = goff[i + 1];
         for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
           const std::int32_t e = gcode[g] >> 2;
           f += ps[e].force;
-          t += sps[e].torque_j;
+          t += ps[e].moment_axis;  // moment on j
         }
         for (; g < g_end; ++g) {  // own entries, partners of higher id
           const std::int32_t e = gcode[g] >> 2;

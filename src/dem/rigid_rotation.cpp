@@ -4,26 +4,6 @@
 
 namespace vt::dem {
 
-Quaternion normalized(const Quaternion& q) {
-  const double s = 1.0 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  return {s * q.w, s * q.x, s * q.y, s * q.z};
-}
-
-Quaternion axis_angle(const Vec3& u, double phi) {
-  const double c = std::cos(0.5 * phi), s = std::sin(0.5 * phi);
-  return {c, s * u.x, s * u.y, s * u.z};
-}
-
-Vec3 angular_velocity_world(const Quaternion& q, const Vec3& l, const Vec3& inertia) {
-  const Vec3 lb = q.rotate_inverse(l);
-  return q.rotate(Vec3{lb.x / inertia.x, lb.y / inertia.y, lb.z / inertia.z});
-}
-
-Vec3 angular_momentum_world(const Quaternion& q, const Vec3& w, const Vec3& inertia) {
-  const Vec3 wb = q.rotate_inverse(w);
-  return q.rotate(Vec3{wb.x * inertia.x, wb.y * inertia.y, wb.z * inertia.z});
-}
-
 double rotational_energy(const Quaternion& q, const Vec3& l, const Vec3& inertia) {
   const Vec3 lb = q.rotate_inverse(l);
   return 0.5 * (lb.x * lb.x / inertia.x + lb.y * lb.y / inertia.y + lb.z * lb.z / inertia.z);
@@ -71,11 +51,16 @@ Quaternion free_split(const Quaternion& q0, const Vec3& l, const Vec3& inertia, 
   return normalized(q);
 }
 
+/// free_rotation (a local function, so advance_rotation can inline it).
+Quaternion free_motion(const Quaternion& q, const Vec3& l, const Vec3& inertia, double h) {
+  if (inertia.y == inertia.z) return free_symmetric(q, l, inertia, h);
+  return free_split(q, l, inertia, h);
+}
+
 }  // namespace
 
 Quaternion free_rotation(const Quaternion& q, const Vec3& l, const Vec3& inertia, double h) {
-  if (inertia.y == inertia.z) return free_symmetric(q, l, inertia, h);
-  return free_split(q, l, inertia, h);
+  return free_motion(q, l, inertia, h);
 }
 
 void advance_rotation(Quaternion& q, Vec3& l, const Vec3& torque, const Vec3& inertia,
@@ -84,7 +69,7 @@ void advance_rotation(Quaternion& q, Vec3& l, const Vec3& torque, const Vec3& in
   const double decay = (1.0 - half) / (1.0 + half);
   const double kick = dt / (1.0 + half);
   l = decay * l + kick * torque;
-  q = free_rotation(q, l, inertia, dt);
+  q = free_motion(q, l, inertia, dt);
 }
 
 void advance_rotation_omega(Quaternion& q, Vec3& w, const Vec3& torque, const Vec3& inertia,

@@ -17,23 +17,9 @@ void SpheroidContactStats::add(const SpheroidContactStats& o) {
 
 namespace {
 
-/// A spheroid reduced to what the support function needs:
-/// A^-1 = b2 I + k e e^T.
-struct Body {
-  double b2;  // b^2 [m^2]
-  double k;   // a^2 - b^2 [m^2]
-  Vec3 e;     // world symmetry axis
-};
+using Body = SpheroidSupport;
 
-Body make_body(const Spheroid& s) {
-  const double b2 = s.b * s.b;
-  return {b2, s.a * s.a - b2, s.axis()};
-}
-
-inline double support(const Body& s, const Vec3& n) {
-  const double c = dot(s.e, n);
-  return std::sqrt(s.b2 + s.k * c * c);
-}
+inline double support(const Body& s, const Vec3& n) { return s.support(n); }
 
 inline Vec3 support_point(const Body& s, const Vec3& n, double* h_out) {
   const double c = dot(s.e, n);
@@ -176,28 +162,32 @@ bool damped_newton(const Body& bi, const Body& bj, const Vec3& d, Vec3& n, int m
 }  // namespace
 
 double spheroid_gap_bound(const Spheroid& si, const Spheroid& sj, const Vec3& d, const Vec3& n) {
-  return gap_function(make_body(si), make_body(sj), d, n);
+  return gap_function(Body::of(si), Body::of(sj), d, n);
 }
 
 SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, const Vec3& d,
                                         SpheroidContactCache* cache, SpheroidContactStats* stats,
                                         const SpheroidContactOptions& opt) {
+  return detect_spheroid_contact(Body::of(si), Body::of(sj), d, cache, stats, opt);
+}
+
+SpheroidContact detect_spheroid_contact(const SpheroidSupport& bi, const SpheroidSupport& bj,
+                                        const Vec3& d, SpheroidContactCache* cache,
+                                        SpheroidContactStats* stats, const SpheroidContactOptions& opt) {
   SpheroidContactStats local_stats;
   SpheroidContactStats& st = stats ? *stats : local_stats;
   ++st.calls;
-  SpheroidContact out;
 
-  const double reach = si.bounding_radius() + sj.bounding_radius();
+  const double reach = bi.bound + bj.bound;
   const double d2 = norm2(d);
   if (d2 >= reach * reach) {
     ++st.bounding_rejects;
+    SpheroidContact out;
     out.overlap = -std::numeric_limits<double>::infinity();
     return out;
   }
-  out.in_bounds = true;
   ++st.solves;
 
-  const Body bi = make_body(si), bj = make_body(sj);
   const double tol = opt.step_tolerance;
 
   // Acceptance bound: delta <= g(d/|d|) <= r_i + r_j - |d| (h <= r).
@@ -242,9 +232,10 @@ SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, 
   double delta = hi + hj - dot(n, d);
   ok = ok && delta <= bound;
 
+  bool fallback = false;
   if (!ok) {
     ++st.fallbacks;
-    out.fallback = true;
+    fallback = true;
     Vec3 start = cold_start();
     if (d2 > 0.0) {  // the better of the cold start and the centre line
       const Vec3 dhat = normalized(d);
@@ -258,6 +249,21 @@ SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, 
     ok = ok && delta <= bound;
   }
 
+  st.iterations += static_cast<std::uint64_t>(iterations);
+  if (!ok) ++st.failures;
+  if (cache) {
+    // extrapolate next time only from two consecutive plain-Newton solutions
+    cache->has_previous = ok && cache->valid && !fallback;
+    cache->previous = cache->normal;
+    cache->normal = n;
+    cache->valid = ok;
+  }
+
+  // Built last, after every store through stats and cache (which the
+  // compiler must assume may alias the result), so it is written only once.
+  SpheroidContact out;
+  out.in_bounds = true;
+  out.fallback = fallback;
   out.overlap = delta;
   out.normal = n;
   out.deepest_i = pi;
@@ -265,16 +271,6 @@ SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, 
   out.contact_point = 0.5 * ((pi - pj) + d);  // (P_i + P_j)/2 - x_i, symmetric in i, j
   out.iterations = iterations;
   out.converged = ok;
-
-  st.iterations += static_cast<std::uint64_t>(iterations);
-  if (!ok) ++st.failures;
-  if (cache) {
-    // extrapolate next time only from two consecutive plain-Newton solutions
-    cache->has_previous = ok && cache->valid && !out.fallback;
-    cache->previous = cache->normal;
-    cache->normal = n;
-    cache->valid = ok;
-  }
   return out;
 }
 

@@ -36,6 +36,12 @@
 // and pair states are prefetched in software. The order of every sum is the
 // one of the plain loops (list order for the chunk sums, ascending partner
 // id per particle), so the results do not depend on these choices.
+// Spheroid path: the support data of every particle (b^2, a^2 - b^2 and the
+// symmetry axis e = q (1,0,0), SpheroidSupport) is computed once per
+// evaluation, not once per pair; the moment on j is kept in
+// PairState::moment_axis, so the gather reads one line for an entry of
+// another particle (the moment on i is in the SpheroidPairState, read for
+// the particle's own, consecutive entries).
 #pragma once
 
 #include <cstdint>
@@ -85,6 +91,7 @@ class ContactForces {
  private:
   std::vector<ContactSums> chunk_sums_;
   std::vector<Scratch> scratch_;
+  std::vector<SpheroidSupport> bodies_;  ///< spheroid path: per particle, rebuilt every call
 };
 
 }  // namespace vt::dem

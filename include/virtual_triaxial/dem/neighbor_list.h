@@ -37,16 +37,19 @@ namespace vt::dem {
 /// the gather reads an entry owned by another particle as a single line.
 struct alignas(64) PairState {
   Vec3 force;                ///< total contact force on j [N]; zero when not in contact
-  Vec3 moment_axis;          ///< n x F_on_i [N]; torque on i = l_i * this; zero when not in contact
+  /// Spheres: n x F_on_i [N], torque on i = l_i * this. Spheroid path
+  /// (NeighborList::has_spheroids()): the moment on j (the partner) about its
+  /// centre [N m]. Zero when not in contact.
+  Vec3 moment_axis;
   double half_overlap = 0;   ///< delta/2 [m]; 0 when not in contact
 };
 
 /// Per-entry state of a pair that involves a spheroid (only kept when the
-/// particles include spheroids). The moments are zero when not in contact.
+/// particles include spheroids). The moment is zero when not in contact; the
+/// moment on j is PairState::moment_axis.
 struct SpheroidPairState {
   SpheroidContactCache cache;  ///< warm start of the contact solver
   Vec3 torque_i;               ///< moment on i (the owner) about its centre [N m]
-  Vec3 torque_j;               ///< moment on j (the partner) about its centre [N m]
 };
 
 /// Read-only view of one field of PairData::state, indexed by list entry
@@ -73,7 +76,7 @@ struct PairData {
   std::vector<SpheroidPairState> spheroid;  ///< empty unless the particles include spheroids
   // Read-only views of the fields of `state`.
   PairField<Vec3, &PairState::force> force{&state};              ///< force on j [N]
-  PairField<Vec3, &PairState::moment_axis> moment_axis{&state};  ///< n x F_on_i [N]
+  PairField<Vec3, &PairState::moment_axis> moment_axis{&state};  ///< see PairState::moment_axis
   PairField<double, &PairState::half_overlap> half_overlap{&state};  ///< delta/2 [m]
 
   PairData() = default;

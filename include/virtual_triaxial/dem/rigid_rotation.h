@@ -47,24 +47,42 @@
 // dimensionless, so results scale exactly under power-of-two unit changes.
 #pragma once
 
+#include <cmath>
+
 #include "virtual_triaxial/dem/quaternion.h"
 #include "virtual_triaxial/dem/vec3.h"
 
 namespace vt::dem {
 
+// The small helpers below are inline: the integrator calls them for every
+// spheroid and step, and an out-of-line call in the shared library cannot be
+// inlined (symbol interposition).
+
 /// q / |q|.
-Quaternion normalized(const Quaternion& q);
+inline Quaternion normalized(const Quaternion& q) {
+  const double s = 1.0 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {s * q.w, s * q.x, s * q.y, s * q.z};
+}
 
 /// Rotation by angle phi [rad] about the unit axis u (as a unit quaternion).
-Quaternion axis_angle(const Vec3& u, double phi);
+inline Quaternion axis_angle(const Vec3& u, double phi) {
+  const double c = std::cos(0.5 * phi), s = std::sin(0.5 * phi);
+  return {c, s * u.x, s * u.y, s * u.z};
+}
 
 /// omega = R I^-1 R^T L [rad/s] for world L [kg m^2/s].
-Vec3 angular_velocity_world(const Quaternion& q, const Vec3& angular_momentum_world,
-                            const Vec3& inertia_body);
+inline Vec3 angular_velocity_world(const Quaternion& q, const Vec3& angular_momentum_world,
+                                   const Vec3& inertia_body) {
+  const Vec3 lb = q.rotate_inverse(angular_momentum_world);
+  return q.rotate(Vec3{lb.x / inertia_body.x, lb.y / inertia_body.y, lb.z / inertia_body.z});
+}
 
 /// L = R I R^T omega [kg m^2/s] for world omega [rad/s].
-Vec3 angular_momentum_world(const Quaternion& q, const Vec3& omega_world,
-                            const Vec3& inertia_body);
+inline Vec3 angular_momentum_world(const Quaternion& q, const Vec3& omega_world,
+                                   const Vec3& inertia_body) {
+  const Vec3 wb = q.rotate_inverse(omega_world);
+  return q.rotate(Vec3{wb.x * inertia_body.x, wb.y * inertia_body.y, wb.z * inertia_body.z});
+}
 
 /// Rotational kinetic energy L . omega / 2 [J].
 double rotational_energy(const Quaternion& q, const Vec3& angular_momentum_world,

@@ -87,6 +87,7 @@
 // plus call overhead). Reentrant: no global state; stats are per caller.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "virtual_triaxial/dem/spheroid.h"
@@ -137,13 +138,44 @@ struct SpheroidContact {
   bool fallback = false;   ///< the fallback path ran
 };
 
+/// A spheroid reduced to what the solver needs (spheroid.h):
+/// A^-1 = b2 I + k e e^T, support function h(n) = sqrt(b2 + k (e.n)^2) [m].
+/// Building it costs one quaternion rotation (e = q (1,0,0)); a caller with
+/// many pairs per particle builds it once per particle and step (the pair
+/// loop of contact_forces.cpp does) and passes it to the overloads below,
+/// which give bit for bit the results of the Spheroid overloads.
+struct SpheroidSupport {
+  double b2 = 0.0;     ///< b^2 [m^2]
+  double k = 0.0;      ///< a^2 - b^2 [m^2]
+  Vec3 e;              ///< world symmetry axis q (1, 0, 0) (unit)
+  double bound = 0.0;  ///< bounding radius max(a, b) [m]
+
+  static SpheroidSupport of(const Spheroid& s) {
+    const double b2 = s.b * s.b;
+    return {b2, s.a * s.a - b2, s.axis(), s.bounding_radius()};
+  }
+  /// h(n) for a unit world direction n [m].
+  double support(const Vec3& n) const {
+    const double c = dot(e, n);
+    return std::sqrt(b2 + k * c * c);
+  }
+};
+
 /// Separation certificate: g(n) = h_i(n) + h_j(n) - n.d [m] for a unit n.
 /// delta = min g <= g(n), so g(n) < 0 proves the bodies apart (no iteration
 /// needed); callers try the pair's last normal. Cost: 2 square roots.
+inline double spheroid_gap_bound(const SpheroidSupport& si, const SpheroidSupport& sj, const Vec3& d,
+                                 const Vec3& n) {
+  return si.support(n) + sj.support(n) - dot(n, d);
+}
 double spheroid_gap_bound(const Spheroid& si, const Spheroid& sj, const Vec3& d, const Vec3& n);
 
 /// Detect the contact of spheroid j (centre x_i + d) with spheroid i (centre x_i).
 /// cache may be null (always cold start); stats may be null.
+SpheroidContact detect_spheroid_contact(const SpheroidSupport& si, const SpheroidSupport& sj,
+                                        const Vec3& d, SpheroidContactCache* cache = nullptr,
+                                        SpheroidContactStats* stats = nullptr,
+                                        const SpheroidContactOptions& opt = {});
 SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, const Vec3& d,
                                         SpheroidContactCache* cache = nullptr,
                                         SpheroidContactStats* stats = nullptr,
