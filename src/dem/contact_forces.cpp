@@ -94,10 +94,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
     }
     const std::int32_t i = in.owner[e];
     const std::int32_t j = in.partner[e];
-    Vec3 ds = in.frac[j] - in.frac[i];
-    ds.x -= std::nearbyint(ds.x);
-    ds.y -= std::nearbyint(ds.y);
-    ds.z -= std::nearbyint(ds.z);
+    const Vec3 ds = PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
     const Vec3 d = h * ds;
     const double dist2 = norm2(d);
     const double rsum = in.rad[i] + in.rad[j];
@@ -204,10 +201,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     }
     const std::int32_t i = in.owner[e];
     const std::int32_t j = in.partner[e];
-    Vec3 ds = in.frac[j] - in.frac[i];
-    ds.x -= std::nearbyint(ds.x);
-    ds.y -= std::nearbyint(ds.y);
-    ds.z -= std::nearbyint(ds.z);
+    const Vec3 ds = PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
     const Vec3 d = h * ds;
     const double dist2 = norm2(d);
     const double reach = in.axes[i].x + in.axes[j].x;

@@ -103,10 +103,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
     }
     const Vec3 s = PeriodicCell::wrap(frac[i] + hinv * (dt * v_new));
     frac[i] = s;
-    Vec3 ds = s - s_build[i];
-    ds.x -= std::nearbyint(ds.x);
-    ds.y -= std::nearbyint(ds.y);
-    ds.z -= std::nearbyint(ds.z);
+    const Vec3 ds = PeriodicCell::minimum_image(s - s_build[i]);
     const double d2 = norm2(h * ds);
     acc.max_displacement2 = std::max(acc.max_displacement2, d2);
     if (!std::isfinite(d2) || !std::isfinite(v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z))

@@ -210,10 +210,7 @@ void NeighborList::build_reverse(const Particles& p) {
 double NeighborList::max_displacement2(const Particles& p, const PeriodicCell& cell) const {
   double m = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    Vec3 ds = p.frac[i] - frac_at_build_[i];
-    ds.x -= std::nearbyint(ds.x);
-    ds.y -= std::nearbyint(ds.y);
-    ds.z -= std::nearbyint(ds.z);
+    const Vec3 ds = PeriodicCell::minimum_image(p.frac[i] - frac_at_build_[i]);
     m = std::max(m, norm2(cell.h() * ds));
   }
   return m;

@@ -43,14 +43,15 @@ class PeriodicCell {
   /// Reset the strain reference to the current shape.
   void reset_reference() { h_ref_ = h_; }
 
-  /// Minimum-image branch vector from fractional position a to b [m].
-  Vec3 branch(const Vec3& sa, const Vec3& sb) const {
-    Vec3 d = sb - sa;
-    d.x -= std::nearbyint(d.x);
-    d.y -= std::nearbyint(d.y);
-    d.z -= std::nearbyint(d.z);
-    return h_ * d;
+  /// Minimum image of a fractional difference: each component in [-1/2, 1/2].
+  static Vec3 minimum_image(Vec3 ds) {
+    ds.x -= std::nearbyint(ds.x);
+    ds.y -= std::nearbyint(ds.y);
+    ds.z -= std::nearbyint(ds.z);
+    return ds;
   }
+  /// Minimum-image branch vector from fractional position a to b [m].
+  Vec3 branch(const Vec3& sa, const Vec3& sb) const { return h_ * minimum_image(sb - sa); }
   Vec3 to_cartesian(const Vec3& s) const { return h_ * s; }
   Vec3 to_fractional(const Vec3& x) const { return h_inv_ * x; }
   /// Map s into [0,1)^3 (exact: subtracts integers).
