@@ -77,10 +77,7 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 echo "[rig] master http://127.0.0.1:${port}, output ${out}"
-# The master and the recorder run at a lower priority: they are not in the
-# lockstep loop, and on 2 cores they would otherwise delay the nodes that are
-# (the recorder's queues absorb the delay).
-nice -n 10 roscore -p "${port}" >"${ROS_HOME}/roscore.log" 2>&1 &
+roscore -p "${port}" >"${ROS_HOME}/roscore.log" 2>&1 &
 pids+=("$!")
 for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
 rosparam list >/dev/null 2>&1 || { echo "[rig] ERROR: roscore did not come up (${ROS_HOME}/roscore.log)" >&2; exit 1; }
@@ -92,6 +89,9 @@ roslaunch virtual_triaxial protocol_rig.launch sample:="${protocol}" output_dir:
 pids+=("$!")
 record="${RECORD:-1}"
 if [[ "${record}" != 0 ]]; then
+  # The recorder runs at a lower priority: it is not in the lockstep loop,
+  # and on 2 cores it would otherwise delay the nodes that are (its queues
+  # absorb the delay).
   nice -n 10 rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
   bag_pid=$!
   pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages

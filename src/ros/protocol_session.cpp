@@ -36,7 +36,18 @@ void ProtocolSession::call(const std::string& name, Srv& srv) {
   ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
   if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
     throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
-  if (!c.call(srv)) throw RigError(name + ": call failed");
+  // A failed call is a transport failure (the servers answer refusals with
+  // success = false); every request the session makes is idempotent, so it
+  // is retried a few times before the test is given up.
+  bool called = false;
+  for (int attempt = 0; attempt < 5 && !called; ++attempt) {
+    if (attempt > 0) {
+      ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), attempt);
+      ::ros::WallDuration(0.2).sleep();
+    }
+    called = c.call(srv);
+  }
+  if (!called) throw RigError(name + ": call failed (5 attempts)");
   if constexpr (std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
     return;
   } else {
