@@ -68,7 +68,6 @@ ServoOutput PidServo::update(const ServoInput& in) {
                                   " is not finite");
 
   const double cap = p_.max_strain_rate;
-  const double inf = std::numeric_limits<double>::infinity();
   ServoOutput out;
   for (int i = 0; i < 3; ++i) {
     if (!axes_[i]) continue;  // rate, error 0; not saturated; no state
@@ -79,14 +78,7 @@ ServoOutput PidServo::update(const ServoInput& in) {
 
     // The law for a given integral term s [Pa].
     auto law = [&](double s) {
-      const double u = p_.gain * e + s + p_.kd * de;
-      double wanted;
-      if (u == 0.0)
-        wanted = 0.0;
-      else if (k > 0.0 && std::abs(u) < k * in.dt * cap)  // no division by a zero / tiny K
-        wanted = -u / (k * in.dt);
-      else
-        wanted = u > 0.0 ? -inf : inf;  // beyond the cap (always for K <= 0)
+      const double wanted = stiffness_normalised_rate(p_.gain * e + s + p_.kd * de, k, in.dt, cap);
       AxisRate r;
       r.rate = std::clamp(wanted, -cap, cap);
       if (p_.max_rate_change > 0.0)

@@ -2,6 +2,7 @@
 // proportional_servo.h.
 #include "virtual_triaxial/control/proportional_servo.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -54,16 +55,9 @@ ServoOutput ProportionalServo::update(const ServoInput& in) {
                                   kAxisName[i] + " is not finite");
     const double e = in.stress[i] - targets_[i];
     out.error[i] = e;
-    if (e == 0.0) continue;
-    const double k = in.stiffness[i];
-    // Uncapped |rate| = g|e|/(K dt) < max  <=>  g|e| < K dt max (no division
-    // by a zero / tiny K; K <= 0 always takes the capped branch).
-    if (k > 0.0 && p_.gain * std::abs(e) < k * in.dt * p_.max_strain_rate) {
-      out.strain_rate[i] = -p_.gain * e / (k * in.dt);
-    } else {
-      out.strain_rate[i] = e > 0.0 ? -p_.max_strain_rate : p_.max_strain_rate;
-      out.saturated[i] = true;
-    }
+    const double wanted = stiffness_normalised_rate(p_.gain * e, in.stiffness[i], in.dt, p_.max_strain_rate);
+    out.strain_rate[i] = std::clamp(wanted, -p_.max_strain_rate, p_.max_strain_rate);
+    out.saturated[i] = out.strain_rate[i] != wanted;
   }
   return out;
 }

@@ -3,6 +3,7 @@
 #include "virtual_triaxial/control/servo_strategy.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "virtual_triaxial/control/pid_servo.h"
@@ -13,6 +14,12 @@ namespace vt::control {
 namespace {
 const char* const kAxisName[3] = {"x", "y", "z"};
 }  // namespace
+
+double stiffness_normalised_rate(double u, double k, double dt, double cap) {
+  if (u == 0.0) return 0.0;
+  if (k > 0.0 && std::abs(u) < k * dt * cap) return -u / (k * dt);
+  return u > 0.0 ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+}
 
 bool AxisMask::operator[](int i) const {
   switch (i) {

@@ -68,6 +68,14 @@ struct ServoParameters {
 /// "ki", "kd", "max_rate_change") when a value is out of range or not finite.
 void validate_servo_parameters(const ServoParameters& p);
 
+/// The stiffness-normalised rate both laws share: the compression-positive
+/// strain rate [1/s] that would cancel the stress correction u [Pa] in one
+/// update for tangent modulus k [Pa] and update interval dt [s], i.e. -u/(k dt)
+/// while |u| < k dt cap, otherwise +-infinity in the direction that reduces
+/// u (always for k <= 0: no division by a zero or tiny stiffness); 0 for
+/// u = 0. The caller clamps it to +-cap.
+double stiffness_normalised_rate(double u, double k, double dt, double cap);
+
 /// One control update.
 struct ServoInput {
   double time = 0.0;   ///< simulation time [s]
