@@ -4,6 +4,7 @@
 #   launch_equiv_scripts/run_triaxial.sh [PROTOCOL.yaml]
 #   OUT=output/mine SERVO_NODE=py_servo_controller.py launch_equiv_scripts/run_triaxial.sh
 #   RECORD=0 ...   no rosbag recording (and no bag plots), e.g. to time the rig alone
+#   RIG_ARGS="nodelets:=false ..."   extra protocol_rig.launch arguments
 #
 # Default protocol: config/protocols/drained_100kPa.yaml (the shipped dense
 # 1000-sphere sample, servo consolidation at 100 kPa, drained shear at
@@ -85,14 +86,16 @@ rosparam list >/dev/null 2>&1 || { echo "[rig] ERROR: roscore did not come up ($
 echo "[rig] starting the rig: ${servo_node}, publish_every ${interval}, servo ${strategy} gain ${gain}"
 roslaunch virtual_triaxial protocol_rig.launch sample:="${protocol}" output_dir:="${out}" \
   publish_every:="${interval}" servo_gain:="${gain}" servo_max_dimensionless_rate:="${max_rate}" \
-  servo_strategy:="${strategy}" servo_node:="${servo_node}" >"${ROS_HOME}/rig.log" 2>&1 &
+  servo_strategy:="${strategy}" servo_node:="${servo_node}" ${RIG_ARGS:-} >"${ROS_HOME}/rig.log" 2>&1 &
 pids+=("$!")
 record="${RECORD:-1}"
 if [[ "${record}" != 0 ]]; then
-  # The recorder runs at a lower priority: it is not in the lockstep loop,
-  # and on 2 cores it would otherwise delay the nodes that are (its queues
-  # absorb the delay).
-  nice -n 10 rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
+  # The recorder subscribes with 100-message queues: starved for 100
+  # control ticks on a busy machine, it would lose messages. It uses little
+  # CPU, so it runs at a higher priority where allowed (root), else normal.
+  bag_nice=0
+  [[ "$(id -u)" == 0 ]] && bag_nice=-5
+  nice -n "${bag_nice}" rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
   bag_pid=$!
   pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages
   # The test starts once the recorder subscribes to the rig's state topics.

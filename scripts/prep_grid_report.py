@@ -4,6 +4,7 @@
 usage: prep_grid_report.py [--out-dir reports/prep_grid] [--particles 1000]
                            [--psd config/psd/mono_0.48mm.yaml] [--seed 1]
                            [--shape sphere|psd] [--quick] [--program PATH] [--table49 CSV]
+                           [--replot] [--retry-failed] [--resume]
 
 Prepares one sample for every shrinkage friction mu1 in {0, 0.03, 0.1, 0.2,
 0.3, 0.5} and every confining pressure in {39, 390, 3900, 39000} kPa (the
@@ -82,6 +83,8 @@ def parse_args():
     ap.add_argument("--program", default=PROGRAM, help="triax_prepare executable")
     ap.add_argument("--retry-failed", action="store_true",
                     help="re-run only the rows of an existing grid.csv that did not converge, then re-plot")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the converged rows of an existing grid.csv in --out-dir and prepare only the rest")
     ap.add_argument("--table49", default=TABLE49,
                     help="transcribed table 49 (default: scripts/data/table49_void_ratio.csv)")
     return ap.parse_args()
@@ -229,17 +232,28 @@ def main():
             rows[i] = r
             write_csv(csv_path, rows)
         n = len(rows)
+    done = set()
+    if args.resume and os.path.isfile(csv_path):
+        rows = [r for r in read_csv(csv_path) if r["converged"]]
+        done = {(round(r["mu1"], 4), round(r["pressure_kpa"])) for r in rows}
+        print(f"prep_grid_report: resuming, {len(rows)} converged preparations kept from {csv_path}", flush=True)
     try:
-        k = 0
-        for p in ([] if (args.retry_failed or args.replot) else pressures):
+        k = len(rows) if args.resume else 0
+        fresh = 0  # preparations run by this invocation
+        # Highest pressure first: those preparations are the fastest, so a
+        # grid stopped early (and resumed later with --resume) has the most points.
+        for p in ([] if (args.retry_failed or args.replot) else sorted(pressures, reverse=True)):
             for mu1 in mu1s:
+                if (round(mu1, 4), p) in done:
+                    continue
                 k += 1
                 print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa ...", flush=True)
                 r = prepare(args, mu1, p, tmp)
                 rows.append(r)
                 write_csv(csv_path, rows)  # keep partial results
                 elapsed = time.monotonic() - t_start
-                left = elapsed / k * (n - k)
+                fresh += 1
+                left = elapsed / fresh * (n - k)
                 if r["converged"]:
                     print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa: e0 {r['e0']:.4f}, Z {r['coordination_number']:.3f}, "
                           f"idle {100 * r['idle_mass_fraction']:.1f} %, {int(r['steps'])} steps, "

@@ -27,7 +27,7 @@ VT_DEB_PACKAGES=(
   ros-base-dev catkin ros-message-generation python3-rospy python3-rosbag
   python3-rostest librostest-dev rosbash ros-std-srvs libhdf5-dev
   libeigen3-dev libyaml-cpp-dev python3-numpy python3-h5py python3-matplotlib
-  hdf5-tools libbenchmark-dev googletest
+  hdf5-tools libbenchmark-dev googletest libnodeletlib-tools
   # process and socket tools the entry scripts and their tests use
   procps iproute2
   # toolchain (normally present; a bare CI image may lack it)

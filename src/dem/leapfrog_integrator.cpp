@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/huge_pages.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
 
 namespace vt::dem {
@@ -23,6 +24,7 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   alpha_ = alpha;
   spheroids_ = p.has_spheroids();
   const std::size_t n = p.size();
+  reserve_huge(coef_, n);
   coef_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double half = 0.5 * alpha[i] * dt;

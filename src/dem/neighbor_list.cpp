@@ -1,5 +1,7 @@
 #include "virtual_triaxial/dem/neighbor_list.h"
 
+#include "virtual_triaxial/dem/huge_pages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -15,6 +17,11 @@ int wrap_bin(int b, int n) { return b < 0 ? b + n : (b >= n ? b - n : b); }
 }  // namespace
 
 void PairData::resize(std::size_t n, bool spheroids) {
+  // Fresh arrays of a rebuild: huge pages before the first write.
+  reserve_huge(partner, n);
+  reserve_huge(spring, n);
+  reserve_huge(state, n);
+  if (spheroids) reserve_huge(spheroid, n);
   partner.resize(n);
   spring.resize(n);
   state.resize(n);
@@ -149,6 +156,7 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
   spheroids_ = spheroids;
   build_reverse(p);
   frac_at_build_ = p.frac;
+  if (rebuilds_ == 0) collapse_huge(frac_at_build_);
   h_at_build_inv_ = cell.h_inverse();
   built_ = true;
   ++rebuilds_;
@@ -171,6 +179,7 @@ void NeighborList::build_reverse(const Particles& p) {
       return p.id[static_cast<std::size_t>(a)] < p.id[static_cast<std::size_t>(b)];
     });
   }
+  reserve_huge(owners_, npairs + npairs / 8);
   owners_.resize(npairs);
   for (std::size_t i = 0; i < n; ++i)
     std::fill(owners_.begin() + offsets_[i], owners_.begin() + offsets_[i + 1], static_cast<std::int32_t>(i));
@@ -192,6 +201,7 @@ void NeighborList::build_reverse(const Particles& p) {
   // force added) then its own entries (higher id, force subtracted), i.e.
   // ascending partner id; the last slot of each particle is flagged.
   gather_offsets_.resize(n + 1);
+  reserve_huge(gather_code_, 2 * npairs + npairs / 4);
   gather_code_.resize(2 * npairs);
   std::size_t g = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "virtual_triaxial/dem/huge_pages.h"
+
 namespace vt::dem {
 
 Simulation::Simulation(Particles particles, const PeriodicCell& cell, const SimulationSettings& settings)
@@ -42,8 +44,21 @@ void Simulation::initialize() {
   time_scale_ = TimeScale::from(particles_.min_minor_semi_axis(), settings_.material.density,
                                 settings_.material.young, settings_.time_step_ratio);
   list_.set_skin(settings_.skin_ratio * time_scale_.l0);
+  use_huge_pages();
   list_.build(particles_, cell_);
   update_damping();
+}
+
+void Simulation::use_huge_pages() {
+  Particles& p = particles_;
+  collapse_huge(p.frac);
+  collapse_huge(p.velocity);
+  collapse_huge(p.omega);
+  collapse_huge(p.radius);
+  collapse_huge(p.semi_axes);
+  collapse_huge(p.orientation);
+  reserve_huge(force_, p.size());
+  reserve_huge(torque_, p.size());
 }
 
 void Simulation::update_damping() {

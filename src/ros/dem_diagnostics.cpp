@@ -1,6 +1,7 @@
 // DemDiagnostics: /diagnostics report of dem_node. See dem_diagnostics.h.
 #include "virtual_triaxial/ros/dem_diagnostics.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include <diagnostic_msgs/DiagnosticStatus.h>
@@ -35,6 +36,25 @@ void DemDiagnostics::count_timeout(const std::string& owner) {
 void DemDiagnostics::count_rejected(const std::string& reason) {
   ++rejected_;
   last_rejection_ = reason;
+}
+
+void DemDiagnostics::add_tick(double stepping, double publishing, double waiting) {
+  for (TickTimes* t : {&since_report_, &since_start_}) {
+    t->wall[0] += stepping;
+    t->wall[1] += publishing;
+    t->wall[2] += waiting;
+    ++t->ticks;
+  }
+}
+
+std::string DemDiagnostics::tick_summary() const {
+  const TickTimes& t = since_start_;
+  const double n = static_cast<double>(std::max<std::uint64_t>(t.ticks, 1));
+  std::ostringstream s;
+  s.precision(4);
+  s << t.ticks << " control ticks; wall per tick: DEM steps " << 1e3 * t.wall[0] / n << " ms, measures + messages "
+    << 1e3 * t.wall[1] / n << " ms, lockstep wait " << 1e3 * t.wall[2] / n << " ms";
+  return s.str();
 }
 
 diagnostic_msgs::DiagnosticArray DemDiagnostics::report(const DemStatus& s, ::ros::WallTime now) {
@@ -85,6 +105,18 @@ diagnostic_msgs::DiagnosticArray DemDiagnostics::report(const DemStatus& s, ::ro
   for (const auto& [owner, n] : timeouts_by_owner_) st.values.push_back(kv("lockstep timeouts: " + owner, str(n)));
   st.values.push_back(kv("refused cell commands", str(rejected_)));
   if (!last_rejection_.empty()) st.values.push_back(kv("last refused command", last_rejection_));
+  const char* part[3] = {"DEM steps", "measures + messages", "lockstep wait"};
+  for (const auto& [label, t] : {std::pair<const char*, const TickTimes&>{"recent", since_report_},
+                                 std::pair<const char*, const TickTimes&>{"since start", since_start_}}) {
+    if (t.ticks == 0) continue;
+    const double total = t.wall[0] + t.wall[1] + t.wall[2];
+    for (int k = 0; k < 3; ++k)
+      st.values.push_back(kv(std::string("wall per tick, ") + label + ": " + part[k] + " [ms]",
+                             str(1e3 * t.wall[k] / static_cast<double>(t.ticks))));
+    st.values.push_back(kv(std::string("lockstep wait share, ") + label + " [%]",
+                           str(total > 0 ? 100.0 * t.wall[2] / total : 0.0)));
+  }
+  since_report_ = TickTimes{};
 
   diagnostic_msgs::DiagnosticArray arr;
   arr.header.stamp.fromSec(s.time);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <boost/make_shared.hpp>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <rosgraph_msgs/Clock.h>
 
@@ -126,7 +128,7 @@ bool DemNode::stepping() const { return !sim_->unstable() && (!paused_ || pendin
 void DemNode::spin() {
   publish_clock();
   publish_diagnostics();
-  while (::ros::ok()) {
+  while (::ros::ok() && !stop_) {
     queue_.callAvailable(stepping() ? ::ros::WallDuration(0) : ::ros::WallDuration(0.05));
     if ((::ros::WallTime::now() - last_diagnostics_).toSec() >= diagnostics_period_) {
       publish_diagnostics();
@@ -144,6 +146,7 @@ void DemNode::run_tick() {
   dem::Vec3 l;
   for (int i = 0; i < 3; ++i) l[i] = std::expm1(-rates[i] * dt) / dt;
   sim_->set_strain_rates(l);
+  const ::ros::WallTime t0 = ::ros::WallTime::now();
   for (int k = 0; k < publish_every_; ++k)
     if (!sim_->step(k == publish_every_ - 1)) break;
   if (sim_->unstable()) {
@@ -154,14 +157,17 @@ void DemNode::run_tick() {
     return;
   }
   ++tick_;
+  const ::ros::WallTime t1 = ::ros::WallTime::now();
   publish_state(rates);
   publish_clock();
+  const ::ros::WallTime t2 = ::ros::WallTime::now();
   if (lockstep_) wait_for_commands();
+  diag_.add_tick((t1 - t0).toSec(), (t2 - t1).toSec(), (::ros::WallTime::now() - t2).toSec());
 }
 
 void DemNode::wait_for_commands() {
   const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(lockstep_timeout_);
-  while (::ros::ok()) {
+  while (::ros::ok() && !stop_) {
     const std::vector<std::string> missing = arbiter_.missing_owners(tick_);
     if (missing.empty()) return;
     const ::ros::WallTime now = ::ros::WallTime::now();
@@ -186,11 +192,14 @@ void DemNode::publish_state(const dem::Vec3& rates) {
   const TickStamp s{tick_, sim_->time()};
   const dem::Vec3 stiffness = dem::axis_stiffness(*sim_);
   const double period = sim_->dt() * publish_every_;
-  stress_pub_.publish(to_stress_msg(m, s, period, sim_->settings().material.young, stiffness));
-  strain_pub_.publish(to_strain_msg(m, s, rates, sim_->time_scale().t0));
-  moment_pub_.publish(to_moment_index_msg(m, s));
-  energy_pub_.publish(to_kinetic_energy_msg(m, s));
-  fabric_pub_.publish(to_fabric_msg(m, s));
+  // Shared pointers: subscribers in the same process (the nodelet rig) get
+  // the message itself, neither serialised nor copied.
+  stress_pub_.publish(
+      boost::make_shared<virtual_triaxial::Stress>(to_stress_msg(m, s, period, sim_->settings().material.young, stiffness)));
+  strain_pub_.publish(boost::make_shared<virtual_triaxial::Strain>(to_strain_msg(m, s, rates, sim_->time_scale().t0)));
+  moment_pub_.publish(boost::make_shared<virtual_triaxial::MomentIndex>(to_moment_index_msg(m, s)));
+  energy_pub_.publish(boost::make_shared<virtual_triaxial::KineticEnergy>(to_kinetic_energy_msg(m, s)));
+  fabric_pub_.publish(boost::make_shared<virtual_triaxial::Fabric>(to_fabric_msg(m, s)));
 }
 
 void DemNode::publish_clock() {
@@ -201,7 +210,7 @@ void DemNode::publish_clock() {
 
 void DemNode::publish_diagnostics() {
   DemStatus s;
-  s.name = ::ros::this_node::getName() + ": simulation";
+  s.name = pnh_.getNamespace() + ": simulation";
   s.t0 = sim_->time_scale().t0;
   s.dt = sim_->dt();
   s.tick = tick_;
@@ -293,6 +302,8 @@ bool DemNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   pending_ticks_ = 0;
   rs.success = true;
   rs.message = "paused after tick " + std::to_string(tick_);
+  ROS_INFO("dem_node: paused after tick %llu; %s", static_cast<unsigned long long>(tick_),
+           diag_.tick_summary().c_str());
   return true;
 }
 

@@ -143,7 +143,7 @@ void ServoControllerNode::on_reconfigure(virtual_triaxial::ServoConfig& c, std::
 
 void ServoControllerNode::read_parameters() {
   pnh_.param<std::string>("strategy", strategy_name_, "proportional");
-  pnh_.param<std::string>("owner", owner_, ::ros::this_node::getName());
+  pnh_.param<std::string>("owner", owner_, pnh_.getNamespace());
   if (owner_.empty()) throw std::invalid_argument("~owner: must not be empty");
   gain_ = optional_double(pnh_, "gain").value_or(0.5);
   ki_ = optional_double(pnh_, "ki").value_or(0.0);

@@ -56,6 +56,7 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
 
 TestProtocolNode::~TestProtocolNode() {
   abort_ = true;
+  shutdown_ = true;
   std::lock_guard<std::mutex> lock(goal_mutex_);
   if (worker_.joinable()) worker_.join();
 }
@@ -98,7 +99,7 @@ bool TestProtocolNode::on_abort(std_srvs::Trigger::Request&, std_srvs::Trigger::
 
 std::optional<TickMessages> TestProtocolNode::wait_tick(std::uint64_t tick) {
   const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(tick_timeout_);
-  while (::ros::ok()) {
+  while (::ros::ok() && !shutdown_) {
     if (auto m = ticks_.take(tick)) return m;
     if (::ros::WallTime::now() >= deadline) return std::nullopt;
     tick_queue_.callAvailable(::ros::WallDuration(0.005));
@@ -153,7 +154,7 @@ void TestProtocolNode::execute(GoalHandle gh) {
   }
   ticks_.clear();
   tick_queue_.clear();
-  ProtocolSession session(nh_, servo_, ::ros::this_node::getName(), rig_timeout_);
+  ProtocolSession session(nh_, servo_, pnh_.getNamespace(), rig_timeout_);
   {
     std::error_code ec;
     fs::create_directories(dir / "checkpoints", ec);
@@ -169,7 +170,7 @@ void TestProtocolNode::execute(GoalHandle gh) {
   links.answer = [this](std::uint64_t t) {
     virtual_triaxial::CellCommand c;
     c.tick = t;
-    c.owner = ::ros::this_node::getName();
+    c.owner = pnh_.getNamespace();
     command_pub_.publish(c);
   };
   links.feedback = [&gh](const virtual_triaxial::RunTestFeedback& f) { gh.publishFeedback(f); };

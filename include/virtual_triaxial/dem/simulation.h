@@ -101,6 +101,8 @@ class Simulation {
  private:
   void initialize();
   void update_damping();
+  /// Back the large per-particle arrays with transparent huge pages (huge_pages.h).
+  void use_huge_pages();
 
   Particles particles_;
   PeriodicCell cell_;

@@ -48,6 +48,7 @@
 // works with use_sim_time=true on the clock it publishes itself.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -80,8 +81,10 @@ class DemNode {
  public:
   /// nh: the rig's namespace (topics, services); pnh: private parameters.
   DemNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh);
-  /// Runs control ticks and serves callbacks until ROS shuts down.
+  /// Runs control ticks and serves callbacks until ROS shuts down or stop().
   void spin();
+  /// Makes spin() return after the current tick (thread-safe; the nodelet's unload).
+  void stop() { stop_ = true; }
 
  private:
   void read_parameters();
@@ -129,6 +132,7 @@ class DemNode {
   std::uint64_t tick_ = 0;           ///< last published control tick
   std::uint64_t pending_ticks_ = 0;  ///< ticks requested by `step` while paused
   bool paused_ = false;
+  std::atomic<bool> stop_{false};
   ::ros::WallTime last_diagnostics_;
 
   ::ros::Publisher stress_pub_, strain_pub_, moment_pub_, energy_pub_, fabric_pub_, clock_pub_, diag_pub_;

@@ -57,6 +57,7 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -69,7 +70,6 @@
 #include "virtual_triaxial/io/scene_config.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/ros/tick_collector.h"
-#include <optional>
 
 namespace vt::ros {
 
@@ -96,6 +96,7 @@ class TestProtocolNode {
   std::atomic<bool> abort_{false};
   std::atomic<bool> running_{false};
   std::atomic<bool> preempt_{false};
+  std::atomic<bool> shutdown_{false};  ///< set by the destructor: wait_tick gives up
   std::mutex goal_mutex_;   ///< guards current_ and worker_
   GoalHandle current_;      ///< the goal being executed
   std::thread worker_;      ///< runs execute()

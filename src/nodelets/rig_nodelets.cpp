@@ -1,0 +1,87 @@
+// The three rig nodes as nodelets, so that the whole rig can run in one
+// process (launch_equiv_scripts/protocol_rig.launch, nodelets:=true):
+//
+//   virtual_triaxial/DemNodelet            = dem_node
+//   virtual_triaxial/ServoControllerNodelet = servo_controller_node
+//   virtual_triaxial/TestProtocolNodelet   = test_protocol_node
+//
+// Same classes, parameters, topics and services as the stand-alone nodes
+// (ros/dem_node.h, ros/servo_controller_node.h, ros/test_protocol_node.h);
+// only the transport of the lockstep loop changes: the state messages reach
+// the servo and the protocol node as shared pointers (no serialisation, no
+// TCP, no network thread), and a command reaches dem_node's queue directly.
+// Nodes outside the manager (rosbag, a Python controller, rostopic) still
+// connect over TCP as before, so controllers stay swappable.
+//
+// Threads: each nodelet keeps the threading of its stand-alone node. The DEM
+// loop runs in its own thread (it never returns to a callback queue); the
+// servo and the protocol node each serve their callbacks from their own queue
+// in their own thread (single-threaded, as with ros::spin), not from the
+// manager's shared worker pool, which would add a hand-off per message.
+#include <atomic>
+#include <memory>
+#include <thread>
+
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+
+#include "virtual_triaxial/ros/dem_node.h"
+#include "virtual_triaxial/ros/servo_controller_node.h"
+#include "virtual_triaxial/ros/test_protocol_node.h"
+
+namespace vt::nodelets {
+
+/// dem_node: DemNode::spin() in a thread of its own; stop() on unload.
+class DemNodelet : public nodelet::Nodelet {
+ public:
+  ~DemNodelet() override {
+    if (node_) node_->stop();
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void onInit() override {
+    node_ = std::make_unique<vt::ros::DemNode>(getNodeHandle(), getPrivateNodeHandle());
+    thread_ = std::thread([this] { node_->spin(); });
+  }
+  std::unique_ptr<vt::ros::DemNode> node_;
+  std::thread thread_;
+};
+
+/// A node class whose callbacks are served from its own queue by its own
+/// thread (what ros::spin() does for the stand-alone node).
+template <class Node>
+class QueueThreadNodelet : public nodelet::Nodelet {
+ public:
+  ~QueueThreadNodelet() override {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+    node_.reset();  // before the queue it uses
+  }
+
+ private:
+  void onInit() override {
+    ::ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
+    nh.setCallbackQueue(&queue_);
+    pnh.setCallbackQueue(&queue_);
+    node_ = std::make_unique<Node>(nh, pnh);
+    thread_ = std::thread([this] {
+      while (running_ && ::ros::ok()) queue_.callAvailable(::ros::WallDuration(0.05));
+    });
+  }
+  ::ros::CallbackQueue queue_;
+  std::unique_ptr<Node> node_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+using ServoControllerNodelet = QueueThreadNodelet<vt::ros::ServoControllerNode>;
+using TestProtocolNodelet = QueueThreadNodelet<vt::ros::TestProtocolNode>;
+
+}  // namespace vt::nodelets
+
+PLUGINLIB_EXPORT_CLASS(vt::nodelets::DemNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(vt::nodelets::ServoControllerNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(vt::nodelets::TestProtocolNodelet, nodelet::Nodelet)
