@@ -14,7 +14,7 @@
 # picks a free master port and binds everything to 127.0.0.1 (ROS 1 has no
 # authentication); sets ROS_HOME under the output folder; starts roscore, the
 # rig (protocol_rig.launch: dem_node, servo controller, test_protocol_node)
-# and `rosbag record` of every topic; runs the protocol through the run_test
+# and the recorder of every topic (bag_recorder); runs the protocol through the run_test
 # action (scripts/run_test_client.py, progress printed); stops every process
 # it started (also on Ctrl-C or error); makes the plots. One output folder
 # (${OUT:-output/default}) holds:
@@ -90,12 +90,14 @@ roslaunch virtual_triaxial protocol_rig.launch sample:="${protocol}" output_dir:
 pids+=("$!")
 record="${RECORD:-1}"
 if [[ "${record}" != 0 ]]; then
-  # The recorder subscribes with 100-message queues: starved for 100
-  # control ticks on a busy machine, it would lose messages. It uses little
-  # CPU, so it runs at a higher priority where allowed (root), else normal.
+  # bag_recorder (ros/bag_recorder.h), not `rosbag record -a`: the latter
+  # subscribes with 100-message queues and drops messages when it is starved
+  # of CPU for 100 control ticks on a busy machine. It uses little CPU, so
+  # it runs at a higher priority where allowed (root), else normal.
   bag_nice=0
   [[ "$(id -u)" == 0 ]] && bag_nice=-5
-  nice -n "${bag_nice}" rosbag record -a -O "${out}/rig.bag" --split --size=512 >"${ROS_HOME}/rosbag.log" 2>&1 &
+  nice -n "${bag_nice}" build/devel/lib/virtual_triaxial/bag_recorder -O "${out}/rig" --split-mb 512 \
+    >"${ROS_HOME}/rosbag.log" 2>&1 &
   bag_pid=$!
   pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages
   # The test starts once the recorder subscribes to the rig's state topics.

@@ -161,7 +161,8 @@ class PyServoController:
         # hand-off to a writer thread), the lowest latency for lockstep.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            self.command_pub = rospy.Publisher("cell_command", CellCommand, queue_size=None, tcp_nodelay=True)
+            self.command_pub = rospy.Publisher("cell_command", CellCommand, queue_size=None, tcp_nodelay=True,
+                                               latch=True)  # a late dem_node connection still gets the last answer
             self.state_pub = rospy.Publisher("servo_state", ServoState, queue_size=None, tcp_nodelay=True)
         self.stress_sub = rospy.Subscriber("stress", Stress, self.on_stress, queue_size=100, tcp_nodelay=True)
         # Proxies made once (resolved in the node's namespace); each call looks the service up.

@@ -13,11 +13,14 @@
 // Nodes outside the manager (rosbag, a Python controller, rostopic) still
 // connect over TCP as before, so controllers stay swappable.
 //
-// Threads: each nodelet keeps the threading of its stand-alone node. The DEM
-// loop runs in its own thread (it never returns to a callback queue); the
-// servo and the protocol node each serve their callbacks from their own queue
-// in their own thread (single-threaded, as with ros::spin), not from the
-// manager's shared worker pool, which would add a hand-off per message.
+// Threads: the DEM loop runs in its own thread (it never returns to a
+// callback queue); the servo and the protocol node each serve their
+// callbacks from their own queue in their own thread (as with ros::spin),
+// not from the manager's shared worker pool, which would add a hand-off per
+// message. The lockstep path needs no thread hand-off at all: the servo's
+// stress callback and the protocol node's tick judgement run inline in
+// dem_node's thread while it publishes (ros/inline_callback_queue.h), so
+// both answers are already queued when dem_node starts to wait.
 #include <atomic>
 #include <memory>
 #include <thread>
@@ -66,10 +69,13 @@ class QueueThreadNodelet : public nodelet::Nodelet {
     ::ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
     nh.setCallbackQueue(&queue_);
     pnh.setCallbackQueue(&queue_);
-    node_ = std::make_unique<Node>(nh, pnh);
+    node_ = make(nh, pnh);
     thread_ = std::thread([this] {
       while (running_ && ::ros::ok()) queue_.callAvailable(::ros::WallDuration(0.05));
     });
+  }
+  virtual std::unique_ptr<Node> make(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh) {
+    return std::make_unique<Node>(nh, pnh);
   }
   ::ros::CallbackQueue queue_;
   std::unique_ptr<Node> node_;
@@ -77,7 +83,14 @@ class QueueThreadNodelet : public nodelet::Nodelet {
   std::thread thread_;
 };
 
-using ServoControllerNodelet = QueueThreadNodelet<vt::ros::ServoControllerNode>;
+/// servo_controller_node; its stress callback runs inline in the thread
+/// that publishes the stress (dem_node's), see ros/inline_callback_queue.h.
+class ServoControllerNodelet : public QueueThreadNodelet<vt::ros::ServoControllerNode> {
+  std::unique_ptr<vt::ros::ServoControllerNode> make(const ::ros::NodeHandle& nh,
+                                                      const ::ros::NodeHandle& pnh) override {
+    return std::make_unique<vt::ros::ServoControllerNode>(nh, pnh, true);
+  }
+};
 using TestProtocolNodelet = QueueThreadNodelet<vt::ros::TestProtocolNode>;
 
 }  // namespace vt::nodelets

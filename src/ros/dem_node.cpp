@@ -62,6 +62,10 @@ void DemNode::read_parameters() {
   max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(1e-3);
   if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
     throw std::invalid_argument("~max_dimensionless_rate: must be > 0");
+  const double clock_rate = optional_double(pnh_, "clock_rate").value_or(200.0);
+  if (!(std::isfinite(clock_rate) && clock_rate >= 0.0))
+    throw std::invalid_argument("~clock_rate: must be >= 0 Hz (0: every control tick)");
+  clock_period_ = clock_rate > 0.0 ? 1.0 / clock_rate : 0.0;
   diagnostics_period_ = optional_double(pnh_, "diagnostics_period").value_or(1.0);
   if (!(std::isfinite(diagnostics_period_) && diagnostics_period_ > 0.0))
     throw std::invalid_argument("~diagnostics_period: must be > 0 wall seconds");
@@ -159,7 +163,7 @@ void DemNode::run_tick() {
   ++tick_;
   const ::ros::WallTime t1 = ::ros::WallTime::now();
   publish_state(rates);
-  publish_clock();
+  if (clock_period_ <= 0.0 || (t1 - last_clock_).toSec() >= clock_period_) publish_clock();
   const ::ros::WallTime t2 = ::ros::WallTime::now();
   if (lockstep_) wait_for_commands();
   diag_.add_tick((t1 - t0).toSec(), (t2 - t1).toSec(), (::ros::WallTime::now() - t2).toSec());
@@ -206,6 +210,7 @@ void DemNode::publish_clock() {
   rosgraph_msgs::Clock c;
   c.clock.fromSec(sim_->time());
   clock_pub_.publish(c);
+  last_clock_ = ::ros::WallTime::now();
 }
 
 void DemNode::publish_diagnostics() {
@@ -302,6 +307,7 @@ bool DemNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   pending_ticks_ = 0;
   rs.success = true;
   rs.message = "paused after tick " + std::to_string(tick_);
+  publish_clock();  // the clock stands at the last tick's time
   ROS_INFO("dem_node: paused after tick %llu; %s", static_cast<unsigned long long>(tick_),
            diag_.tick_summary().c_str());
   return true;

@@ -24,6 +24,21 @@ namespace vt::ros {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+
+/// The stop criteria's view of a tick (UFR and contacts on sample ticks only).
+protocol::TickSample tick_sample(const TickMessages& m, int axial_axis, std::int64_t steps, bool sample) {
+  protocol::TickSample ts;
+  ts.stage_steps = steps;
+  ts.eps_a = m.strain->strain[static_cast<std::size_t>(axial_axis)];
+  ts.p = m.stress->p;
+  ts.q = m.stress->q;
+  for (int i = 0; i < 3; ++i) ts.stress[i] = m.stress->stress[static_cast<std::size_t>(4 * i)];
+  if (sample) {
+    ts.ufr = m.moment->ufr;
+    ts.contacts = static_cast<std::int64_t>(m.fabric->contacts);
+  }
+  return ts;
+}
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
@@ -201,6 +216,33 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   status.state = "running";
   links.status(status);
 
+  // The judge: stop criteria, step cap and stop requests of one tick (see
+  // TickJudge); it owns `monitor` while the stage runs.
+  const std::int64_t interval = scene.output.interval;
+  const std::uint64_t stage_start = start;
+  auto judge = [&, stage_start, n, cap, interval](std::uint64_t t, const TickMessages& m) {
+    const std::int64_t steps = static_cast<std::int64_t>(t - stage_start) * n;
+    const bool sample = protocol::is_sample_tick(steps, n, interval);
+    TickDecision d;
+    d.why = monitor.check(tick_sample(m, st.axial_axis, steps, sample));
+    if (!d.why.empty()) d.kind = TickDecision::Kind::Criterion;
+    const char* stop = links.stop_request();
+    if (d.why.empty() && steps >= cap && !stop) {
+      d.kind = TickDecision::Kind::StepLimit;
+      d.why = "step limit";
+    }
+    if (stop) {
+      d.kind = TickDecision::Kind::Stop;
+      d.why = stop;
+    }
+    return d;
+  };
+  links.arm(judge, start);
+  struct Disarm {  // the judge refers to this frame's locals
+    SessionLinks& l;
+    ~Disarm() { l.arm(nullptr, 0); }
+  } disarm{links};
+
   trigger("resume");
   auto t_feedback = Clock::now() - std::chrono::seconds(1);
   auto t_progress = Clock::now();
@@ -208,8 +250,8 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   bool ok = true;
   while (true) {
     const std::uint64_t want = tick_ + 1;
-    std::optional<TickMessages> msgs = links.wait_tick(want);
-    if (!msgs) {
+    std::optional<JudgedTick> judged = links.wait_tick(want);
+    if (!judged) {
       virtual_triaxial::GetInfo info;
       call("get_info", info);
       ok = false;
@@ -227,46 +269,39 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       break;
     }
     tick_ = want;
-    ctx_.energy_relative_balance_error = msgs->energy->relative_balance_error;
+    const TickMessages& m = judged->msgs;
+    ctx_.energy_relative_balance_error = m.energy->relative_balance_error;
     const std::int64_t steps = static_cast<std::int64_t>(tick_ - start) * n;
-    const TickMessages& m = *msgs;
     const bool sample = protocol::is_sample_tick(steps, n, scene.output.interval);
-    protocol::TickSample ts;
-    ts.stage_steps = steps;
-    ts.eps_a = m.strain->strain[static_cast<std::size_t>(st.axial_axis)];
-    ts.p = m.stress->p;
-    ts.q = m.stress->q;
-    for (int i = 0; i < 3; ++i) ts.stress[i] = m.stress->stress[static_cast<std::size_t>(4 * i)];
-    dem::Measures measures;
-    if (sample) {
-      ts.ufr = m.moment->ufr;
-      ts.contacts = static_cast<std::int64_t>(m.fabric->contacts);
-    }
-    std::string why = monitor.check(ts);
-    const char* stop = links.stop_request();
-    if (why.empty() && steps >= cap && !stop) {
-      ok = false;
-      report.verdict = protocol::Verdict::StepLimit;
-      report.failure = "stage '" + st.name + "' reached the step limit " + std::to_string(cap) +
-                       " before any stop criterion";
-      why = "step limit";
-      verdict_word_ = "step_limit";
-    }
-    if (stop) {
-      ok = false;
-      report.verdict = std::string(stop) == "preempted" ? protocol::Verdict::Preempted : protocol::Verdict::Aborted;
-      report.failure = std::string(stop) + " during stage '" + st.name + "'";
-      why = stop;
-      verdict_word_ = stop;
+    const protocol::TickSample ts = tick_sample(m, st.axial_axis, steps, sample);
+    const std::string why = judged->decision.why;
+    switch (judged->decision.kind) {
+      case TickDecision::Kind::Continue:
+      case TickDecision::Kind::Criterion:
+        break;
+      case TickDecision::Kind::StepLimit:
+        ok = false;
+        report.verdict = protocol::Verdict::StepLimit;
+        report.failure = "stage '" + st.name + "' reached the step limit " + std::to_string(cap) +
+                         " before any stop criterion";
+        verdict_word_ = "step_limit";
+        break;
+      case TickDecision::Kind::Stop:
+        ok = false;
+        report.verdict = why == "preempted" ? protocol::Verdict::Preempted : protocol::Verdict::Aborted;
+        report.failure = why + " during stage '" + st.name + "'";
+        verdict_word_ = why;
+        break;
     }
     const bool last = !why.empty();
+    if (last) trigger("pause");  // before answering: dem_node halts right after this tick
+    if (!judged->answered) links.answer(tick_);
     if (sample || last) {
-      measures = measures_from_messages(*m.stress, *m.strain, *m.moment, *m.energy, *m.fabric, steps);
+      const dem::Measures measures =
+          measures_from_messages(*m.stress, *m.strain, *m.moment, *m.energy, *m.fabric, steps);
       recorder.on_sample(st, measures);
       if (protocol::is_shear(st.type)) shear.add(measures);
     }
-    if (last) trigger("pause");  // before answering: dem_node halts right after this tick
-    links.answer(tick_);
     ++report.ticks;
 
     status.header = m.stress->header;

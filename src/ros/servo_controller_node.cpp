@@ -29,13 +29,24 @@ bool valid_stress_target(double v) { return std::isfinite(v) && v >= 0.0; }
 
 }  // namespace
 
-ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh)
+ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh,
+                                         bool inline_stress)
     : nh_(nh), pnh_(pnh) {
   read_parameters();
-  stress_sub_ = nh_.subscribe("stress", 100, &ServoControllerNode::on_stress, this,
-                              ::ros::TransportHints().tcpNoDelay());
-  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 100);
-  state_pub_ = nh_.advertise<virtual_triaxial::ServoState>("servo_state", 100);
+  ::ros::SubscribeOptions so;
+  so.init<virtual_triaxial::Stress>(nh_.resolveName("stress"), 100,
+                                    [this](const virtual_triaxial::Stress::ConstPtr& m) { on_stress(m); });
+  so.transport_hints = ::ros::TransportHints().tcpNoDelay();
+  if (inline_stress) {
+    express_ = std::make_unique<InlineCallbackQueue>(*nh_.getCallbackQueue(), &mutex_);
+    so.callback_queue = express_.get();
+  }
+  stress_sub_ = nh_.subscribe(so);
+  // Latched: a dem_node whose subscription connects after our claim (the
+  // claim only needs one cell_command subscriber, maybe another node) still
+  // gets the answer we already sent for the tick it waits on.
+  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 1000, true);
+  state_pub_ = nh_.advertise<virtual_triaxial::ServoState>("servo_state", 1000);
   info_client_ = nh_.serviceClient<virtual_triaxial::GetInfo>("get_info");
   claim_client_ = nh_.serviceClient<virtual_triaxial::ClaimAxes>("claim_axes");
   release_client_ = nh_.serviceClient<virtual_triaxial::ReleaseAxes>("release_axes");
@@ -77,6 +88,7 @@ virtual_triaxial::ServoConfig ServoControllerNode::current_config() const {
 }
 
 void ServoControllerNode::on_reconfigure(virtual_triaxial::ServoConfig& c, std::uint32_t) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   // Each requested field is checked against the settings accepted so far; a
   // refused one keeps its old value (written back into `c`, which the server
   // replies with and publishes on ~parameter_updates).
@@ -225,6 +237,7 @@ std::string ServoControllerNode::release() {
 }
 
 void ServoControllerNode::on_retry(const ::ros::WallTimerEvent&) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   if (!enabled_ || claimed_) return;
   const std::string why = try_claim();
   if (!why.empty() && why != last_wait_reason_) {
@@ -234,6 +247,7 @@ void ServoControllerNode::on_retry(const ::ros::WallTimerEvent&) {
 }
 
 void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& msg) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   last_time_ = msg->time;
   // Ticks keep counting across load_sample; one going backwards means a new
   // dem_node process, which knows nothing of our claim: claim again.
@@ -299,6 +313,7 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
 
 bool ServoControllerNode::on_set_confining_pressure(virtual_triaxial::SetConfiningPressure::Request& rq,
                                                     virtual_triaxial::SetConfiningPressure::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   rs.success = false;
   if (!valid_stress_target(rq.target)) {
     rs.message = "target: must be a finite number >= 0 Pa (compression positive)";
@@ -315,6 +330,7 @@ bool ServoControllerNode::on_set_confining_pressure(virtual_triaxial::SetConfini
 
 bool ServoControllerNode::on_set_axis_targets(virtual_triaxial::SetAxisTargets::Request& rq,
                                               virtual_triaxial::SetAxisTargets::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   rs.success = false;
   if (rq.axes.empty()) {
     rs.message = "axes: no axis given";
@@ -343,6 +359,7 @@ bool ServoControllerNode::on_set_axis_targets(virtual_triaxial::SetAxisTargets::
 
 bool ServoControllerNode::on_set_axes(virtual_triaxial::SetServoAxes::Request& rq,
                                       virtual_triaxial::SetServoAxes::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   rs.success = false;
   control::AxisMask mask{false, false, false};
   std::vector<int> axes;
@@ -385,6 +402,7 @@ bool ServoControllerNode::on_set_axes(virtual_triaxial::SetServoAxes::Request& r
 }
 
 bool ServoControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   enabled_ = true;
   rs.success = true;
   if (claimed_) {
@@ -398,6 +416,7 @@ bool ServoControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigg
 }
 
 bool ServoControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
   enabled_ = false;
   const std::string why = release();
   rs.success = why.empty();

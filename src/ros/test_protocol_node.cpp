@@ -1,6 +1,7 @@
 // TestProtocolNode: action plumbing around ProtocolSession. See test_protocol_node.h.
 #include "virtual_triaxial/ros/test_protocol_node.h"
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -28,21 +29,23 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
   if (!(rig_timeout_ > 0)) throw std::invalid_argument("~rig_timeout: must be > 0 s");
   if (servo_.empty()) throw std::invalid_argument("~servo: must name the servo controller node");
 
-  tick_nh_.setCallbackQueue(&tick_queue_);
+  // State messages are taken (and the tick judged) in the delivering thread.
+  tick_nh_.setCallbackQueue(&inline_queue_);
   const auto hints = ::ros::TransportHints().tcpNoDelay();
   stress_sub_ = tick_nh_.subscribe<virtual_triaxial::Stress>(
-      "stress", 200, [this](const virtual_triaxial::Stress::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+      "stress", 200, [this](const virtual_triaxial::Stress::ConstPtr& m) { on_state(*m); }, {}, hints);
   strain_sub_ = tick_nh_.subscribe<virtual_triaxial::Strain>(
-      "strain", 200, [this](const virtual_triaxial::Strain::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+      "strain", 200, [this](const virtual_triaxial::Strain::ConstPtr& m) { on_state(*m); }, {}, hints);
   moment_sub_ = tick_nh_.subscribe<virtual_triaxial::MomentIndex>(
-      "moment_index", 200, [this](const virtual_triaxial::MomentIndex::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
+      "moment_index", 200, [this](const virtual_triaxial::MomentIndex::ConstPtr& m) { on_state(*m); }, {}, hints);
   energy_sub_ = tick_nh_.subscribe<virtual_triaxial::KineticEnergy>(
-      "kinetic_energy", 200, [this](const virtual_triaxial::KineticEnergy::ConstPtr& m) { ticks_.add(*m); }, {},
+      "kinetic_energy", 200, [this](const virtual_triaxial::KineticEnergy::ConstPtr& m) { on_state(*m); }, {},
       hints);
   fabric_sub_ = tick_nh_.subscribe<virtual_triaxial::Fabric>(
-      "fabric", 200, [this](const virtual_triaxial::Fabric::ConstPtr& m) { ticks_.add(*m); }, {}, hints);
-  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 100);
-  status_pub_ = nh_.advertise<virtual_triaxial::ProtocolStatus>("protocol_status", 100, true);
+      "fabric", 200, [this](const virtual_triaxial::Fabric::ConstPtr& m) { on_state(*m); }, {}, hints);
+  // Latched, as the servo's: a late dem_node connection still gets the last answer.
+  command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 1000, true);
+  status_pub_ = nh_.advertise<virtual_triaxial::ProtocolStatus>("protocol_status", 1000, true);
   abort_srv_ = pnh_.advertiseService("abort", &TestProtocolNode::on_abort, this);
   virtual_triaxial::ProtocolStatus idle;
   idle.state = "idle";
@@ -97,12 +100,67 @@ bool TestProtocolNode::on_abort(std_srvs::Trigger::Request&, std_srvs::Trigger::
   return true;
 }
 
-std::optional<TickMessages> TestProtocolNode::wait_tick(std::uint64_t tick) {
+template <class M>
+void TestProtocolNode::on_state(const M& m) {
+  const std::lock_guard<std::mutex> lock(tick_mutex_);
+  ticks_.add(m);
+  judge_ready();
+}
+
+void TestProtocolNode::judge_ready() {
+  while (judge_) {
+    std::optional<TickMessages> msgs = ticks_.take(judge_next_);
+    if (!msgs) return;
+    JudgedTick j;
+    j.msgs = std::move(*msgs);
+    j.decision = judge_(judge_next_, j.msgs);
+    // Answer at once unless the stage ends here (the session pauses dem_node
+    // first) or the session lags too far behind (it answers when it catches up).
+    if (j.decision.kind == TickDecision::Kind::Continue && judge_next_ <= taken_ + kMaxLag) {
+      answer(judge_next_);
+      j.answered = true;
+    }
+    judged_.emplace(judge_next_, std::move(j));
+    ++judge_next_;
+    tick_cv_.notify_all();
+  }
+}
+
+void TestProtocolNode::arm(TickJudge judge, std::uint64_t start) {
+  const std::lock_guard<std::mutex> lock(tick_mutex_);
+  judge_ = std::move(judge);
+  judge_next_ = start + 1;
+  taken_ = start;
+  judged_.clear();
+  judge_ready();
+}
+
+void TestProtocolNode::answer(std::uint64_t tick) {
+  virtual_triaxial::CellCommand c;
+  c.tick = tick;
+  c.owner = pnh_.getNamespace();
+  command_pub_.publish(c);
+}
+
+std::optional<JudgedTick> TestProtocolNode::wait_tick(std::uint64_t tick) {
   const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(tick_timeout_);
+  std::unique_lock<std::mutex> lock(tick_mutex_);
   while (::ros::ok() && !shutdown_) {
-    if (auto m = ticks_.take(tick)) return m;
-    if (::ros::WallTime::now() >= deadline) return std::nullopt;
-    tick_queue_.callAvailable(::ros::WallDuration(0.005));
+    const auto it = judged_.find(tick);
+    if (it != judged_.end()) {
+      JudgedTick out = std::move(it->second);
+      judged_.erase(judged_.begin(), std::next(it));
+      taken_ = tick;
+      return out;
+    }
+    const ::ros::WallTime now = ::ros::WallTime::now();
+    if (now >= deadline) return std::nullopt;
+    // Callbacks the inline queue could not run at once (none in normal
+    // operation) are served here.
+    lock.unlock();
+    tick_queue_.callAvailable(::ros::WallDuration(0));
+    lock.lock();
+    tick_cv_.wait_for(lock, std::chrono::milliseconds(5));
   }
   return std::nullopt;
 }
@@ -152,7 +210,12 @@ void TestProtocolNode::execute(GoalHandle gh) {
   } catch (const io::SceneError& e) {
     return refuse("failed", std::string("protocol: ") + e.what());
   }
-  ticks_.clear();
+  {
+    const std::lock_guard<std::mutex> lock(tick_mutex_);
+    ticks_.clear();
+    judged_.clear();
+    judge_ = nullptr;
+  }
   tick_queue_.clear();
   ProtocolSession session(nh_, servo_, pnh_.getNamespace(), rig_timeout_);
   {
@@ -167,12 +230,8 @@ void TestProtocolNode::execute(GoalHandle gh) {
     if (abort_) return "aborted";
     return nullptr;
   };
-  links.answer = [this](std::uint64_t t) {
-    virtual_triaxial::CellCommand c;
-    c.tick = t;
-    c.owner = pnh_.getNamespace();
-    command_pub_.publish(c);
-  };
+  links.arm = [this](TickJudge j, std::uint64_t start) { arm(std::move(j), start); };
+  links.answer = [this](std::uint64_t t) { answer(t); };
   links.feedback = [&gh](const virtual_triaxial::RunTestFeedback& f) { gh.publishFeedback(f); };
   links.status = [this](const virtual_triaxial::ProtocolStatus& s) { status_pub_.publish(s); };
   protocol::RunReport report;

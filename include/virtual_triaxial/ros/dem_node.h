@@ -12,13 +12,21 @@
 //                           and of cell commands
 //   start_paused      false start paused (deterministic set-up, then resume/step)
 //   diagnostics_period 1.0  wall seconds between /diagnostics reports
+//   clock_rate        200   /clock messages per wall second at most while
+//                           stepping (0: one per control tick); /clock also goes
+//                           out on pause and load. Like a simulator's clock
+//                           throttle: every state message carries its exact
+//                           simulation time in its header, and each /clock
+//                           message costs a send to every node on
+//                           use_sim_time (rosout, recorder, clients).
 //   damping_model, damping_ratio, time_step_ratio   override the file's values
 //                           (applied again on every load_sample)
 // Bad parameters: the constructor throws, naming the parameter.
 //
 // Topics (relative to the node's namespace; one rig per namespace):
 //   publishes  stress, strain, moment_index, kinetic_energy, fabric (each
-//              control tick), /clock (simulation time, rosgraph_msgs/Clock),
+//              control tick), /clock (simulation time, rosgraph_msgs/Clock;
+//              at most clock_rate per wall second),
 //              /diagnostics (every diagnostics_period and on timeouts/failure)
 //   subscribes cell_command (virtual_triaxial/CellCommand)
 // Services: set_strain_rate, claim_axes, release_axes, get_info, pause,
@@ -121,6 +129,8 @@ class DemNode {
   double lockstep_timeout_ = 2.0;
   double max_dimensionless_rate_ = 1e-3;
   double diagnostics_period_ = 1.0;
+  double clock_period_ = 0.005;     ///< wall seconds between /clock messages while stepping (0: every tick)
+  ::ros::WallTime last_clock_;
   std::unique_ptr<SpecimenLoader> loader_;
 
   // state

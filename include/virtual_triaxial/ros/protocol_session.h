@@ -29,9 +29,34 @@ class RigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The decision on one control tick of a stage: go on, or end the stage.
+struct TickDecision {
+  enum class Kind { Continue, Criterion, StepLimit, Stop };
+  Kind kind = Kind::Continue;
+  std::string why;  ///< "" while the stage goes on; the stop reason, "step limit", "aborted" or "preempted"
+};
+
+/// Decides tick k from its complete state. The node calls it exactly once
+/// per tick, in tick order, as soon as the tick's five messages are in,
+/// possibly in another thread (never concurrently with itself); when the
+/// stage goes on the node answers the tick at once, so dem_node does not
+/// wait for the session's bookkeeping (recording, feedback).
+using TickJudge = std::function<TickDecision(std::uint64_t tick, const TickMessages& msgs)>;
+
+/// A tick as the session receives it: its state, the judge's decision and
+/// whether the node has already answered it (never when the stage ends).
+struct JudgedTick {
+  TickMessages msgs;
+  TickDecision decision;
+  bool answered = false;
+};
+
 /// How the session talks to its node.
 struct SessionLinks {
-  std::function<std::optional<TickMessages>(std::uint64_t)> wait_tick;  ///< nullopt: none in time
+  /// The next judged tick; nullopt when none came in time (or the node stops).
+  std::function<std::optional<JudgedTick>(std::uint64_t)> wait_tick;
+  /// Installs the judge for the ticks after `start` (a null judge: none).
+  std::function<void(TickJudge, std::uint64_t start)> arm;
   std::function<const char*()> stop_request;   ///< nullptr, "aborted" or "preempted"
   std::function<void(std::uint64_t)> answer;   ///< empty cell_command for a tick
   std::function<void(const virtual_triaxial::RunTestFeedback&)> feedback;

@@ -67,6 +67,7 @@
 #include <vector>
 
 #include <boost/thread/recursive_mutex.hpp>
+#include <mutex>
 #include <dynamic_reconfigure/server.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
@@ -77,13 +78,17 @@
 #include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/Stress.h"
 #include "virtual_triaxial/control/servo_strategy.h"
+#include "virtual_triaxial/ros/inline_callback_queue.h"
 #include "virtual_triaxial/ros/target_ramp.h"
 
 namespace vt::ros {
 
 class ServoControllerNode {
  public:
-  ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh);
+  /// inline_stress: run the stress callback in the thread that delivers the
+  /// message (InlineCallbackQueue; the nodelet rig: dem_node's thread), under
+  /// the node's mutex, instead of in the node's own thread.
+  ServoControllerNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh, bool inline_stress = false);
 
  private:
   void read_parameters();
@@ -128,6 +133,9 @@ class ServoControllerNode {
   std::uint64_t claim_tick_ = 0;  ///< dem_node's tick when our claim took effect
   std::string last_wait_reason_;
 
+  /// Held by every callback: the stress callback may run in another thread.
+  std::recursive_mutex mutex_;
+  std::unique_ptr<InlineCallbackQueue> express_;  ///< stress callback queue when inline
   ::ros::Subscriber stress_sub_;
   ::ros::Publisher command_pub_, state_pub_;
   ::ros::ServiceClient info_client_, claim_client_, release_client_;

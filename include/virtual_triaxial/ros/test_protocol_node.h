@@ -55,7 +55,9 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -69,6 +71,8 @@
 #include "virtual_triaxial/RunTestAction.h"
 #include "virtual_triaxial/io/scene_config.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
+#include "virtual_triaxial/ros/inline_callback_queue.h"
+#include "virtual_triaxial/ros/protocol_session.h"
 #include "virtual_triaxial/ros/tick_collector.h"
 
 namespace vt::ros {
@@ -83,16 +87,32 @@ class TestProtocolNode {
   void on_goal(GoalHandle goal);
   void on_cancel(GoalHandle goal);
   void execute(GoalHandle goal);  ///< in worker_
-  /// The state of `tick`, or nullopt after tick_timeout (or when stopped).
-  std::optional<TickMessages> wait_tick(std::uint64_t tick);
+  /// The judged state of `tick`, or nullopt after tick_timeout (or when stopped).
+  std::optional<JudgedTick> wait_tick(std::uint64_t tick);
+  /// A state message (any thread): collect it; judge the ticks now complete.
+  template <class M>
+  void on_state(const M& m);
+  void judge_ready();  ///< tick_mutex_ held
+  void arm(TickJudge judge, std::uint64_t start);
+  void answer(std::uint64_t tick);  ///< empty cell_command for `tick`
   bool on_abort(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
 
   ::ros::NodeHandle nh_, pnh_;
-  ::ros::NodeHandle tick_nh_;         ///< nh_ on tick_queue_ (state subscriptions)
-  ::ros::CallbackQueue tick_queue_;   ///< spun by the executing test only
+  ::ros::NodeHandle tick_nh_;         ///< nh_ on inline_queue_ (state subscriptions)
+  ::ros::CallbackQueue tick_queue_;   ///< fallback of inline_queue_; spun by the executing test
+  InlineCallbackQueue inline_queue_{tick_queue_, nullptr};
   std::string output_dir_, servo_;
   double tick_timeout_ = 30.0, rig_timeout_ = 20.0;
+  /// Ticks judged ahead of the session at most (bounds memory and keeps the
+  /// collector's window, 64 ticks, ahead of the session).
+  static constexpr std::uint64_t kMaxLag = 32;
+  std::mutex tick_mutex_;             ///< guards the members down to judged_
+  std::condition_variable tick_cv_;   ///< a tick was judged
   TickCollector ticks_;
+  TickJudge judge_;                   ///< the running stage's; null between stages
+  std::uint64_t judge_next_ = 0;      ///< next tick to judge
+  std::uint64_t taken_ = 0;           ///< last tick the session took
+  std::map<std::uint64_t, JudgedTick> judged_;  ///< judged, not yet taken
   std::atomic<bool> abort_{false};
   std::atomic<bool> running_{false};
   std::atomic<bool> preempt_{false};

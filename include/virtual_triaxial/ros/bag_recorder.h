@@ -1,0 +1,64 @@
+// bag_recorder: records every topic of the rig into rosbag files, without
+// losing messages when it falls behind for a while.
+//
+// Why not `rosbag record -a`: it subscribes with 100-message queues, so a
+// recorder starved of CPU for 100 control ticks (a fast rig on 2 busy cores:
+// ~0.2 s) drops messages. This recorder subscribes with deep queues
+// (kQueue messages per topic, about a minute of control ticks) and writes in
+// its own spinner thread; the rig's publishers keep 1000 messages per
+// subscriber as well. The files are ordinary bags (rosbag::Bag, connection
+// headers kept, so latched topics stay latched on playback): rosbag play,
+// rosbag info, the Python rosbag API and scripts/bag_report.py read them.
+//
+// Topics: every topic the master lists, polled every 0.2 s, so topics that
+// appear later are recorded too (from the poll that sees them on). Message
+// time = receipt time ros::Time::now() (simulation time on use_sim_time,
+// at least ros::TIME_MIN); every rig message also carries its exact
+// simulation time and tick in its header.
+// Files: <prefix>_<k>.bag, k = 0, 1, ...; a new file starts when the current
+// one exceeds split_bytes. A file is written as <name>.active and renamed
+// when closed (on shutdown: SIGINT), as rosbag does.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <topic_tools/shape_shifter.h>
+
+namespace vt::ros {
+
+class BagRecorder {
+ public:
+  static constexpr std::uint32_t kQueue = 100000;  ///< subscriber queue per topic [messages]
+
+  BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::uint64_t split_bytes);
+  ~BagRecorder();  ///< closes the current file
+  BagRecorder(const BagRecorder&) = delete;
+  BagRecorder& operator=(const BagRecorder&) = delete;
+
+  std::uint64_t messages() const { return messages_; }
+  std::size_t topics() const { return subs_.size(); }
+  int files() const { return file_index_ + (bag_ ? 1 : 0); }
+
+ private:
+  void poll_topics();
+  void on_message(const std::string& topic, const ::ros::MessageEvent<const topic_tools::ShapeShifter>& e);
+  void open_next();
+  void close_current();
+
+  ::ros::NodeHandle nh_;
+  std::string prefix_;
+  std::uint64_t split_bytes_;
+  std::map<std::string, ::ros::Subscriber> subs_;
+  std::unique_ptr<rosbag::Bag> bag_;
+  std::string path_;      ///< current file (without .active)
+  int file_index_ = 0;    ///< files closed so far
+  std::uint64_t messages_ = 0;
+  ::ros::WallTimer poll_timer_;
+};
+
+}  // namespace vt::ros
