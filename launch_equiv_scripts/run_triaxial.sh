@@ -14,7 +14,7 @@
 # picks a free master port and binds everything to 127.0.0.1 (ROS 1 has no
 # authentication); sets ROS_HOME under the output folder; starts roscore, the
 # rig (protocol_rig.launch: dem_node, servo controller, test_protocol_node)
-# and the recorder of every topic (bag_recorder); runs the protocol through the run_test
+# and the recorder of every topic (bag_recorder, in the rig's process); runs the protocol through the run_test
 # action (scripts/run_test_client.py, progress printed); stops every process
 # it started (also on Ctrl-C or error); makes the plots. One output folder
 # (${OUT:-output/default}) holds:
@@ -84,27 +84,27 @@ for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; don
 rosparam list >/dev/null 2>&1 || { echo "[rig] ERROR: roscore did not come up (${ROS_HOME}/roscore.log)" >&2; exit 1; }
 
 echo "[rig] starting the rig: ${servo_node}, publish_every ${interval}, servo ${strategy} gain ${gain}"
+record="${RECORD:-1}"
+record_args=()
+# The recorder (bag_recorder, ros/bag_recorder.h; not `rosbag record -a`,
+# whose 100-message queues drop messages when it is starved of CPU for 100
+# control ticks) runs inside the rig's process as a nodelet: the rig's own
+# topics reach it as pointers, so recording costs the lockstep loop nothing.
+[[ "${record}" != 0 ]] && record_args=(record:="${out}/rig")
 roslaunch virtual_triaxial protocol_rig.launch sample:="${protocol}" output_dir:="${out}" \
   publish_every:="${interval}" servo_gain:="${gain}" servo_max_dimensionless_rate:="${max_rate}" \
-  servo_strategy:="${strategy}" servo_node:="${servo_node}" ${RIG_ARGS:-} >"${ROS_HOME}/rig.log" 2>&1 &
+  servo_strategy:="${strategy}" servo_node:="${servo_node}" "${record_args[@]}" ${RIG_ARGS:-} \
+  >"${ROS_HOME}/rig.log" 2>&1 &
 pids+=("$!")
-record="${RECORD:-1}"
 if [[ "${record}" != 0 ]]; then
-  # bag_recorder (ros/bag_recorder.h), not `rosbag record -a`: the latter
-  # subscribes with 100-message queues and drops messages when it is starved
-  # of CPU for 100 control ticks on a busy machine. It uses little CPU, so
-  # it runs at a higher priority where allowed (root), else normal.
-  bag_nice=0
-  [[ "$(id -u)" == 0 ]] && bag_nice=-5
-  nice -n "${bag_nice}" build/devel/lib/virtual_triaxial/bag_recorder -O "${out}/rig" --split-mb 512 \
-    >"${ROS_HOME}/rosbag.log" 2>&1 &
-  bag_pid=$!
-  pids=("${bag_pid}" "${pids[@]}")  # stop the recorder first so it sees the last messages
-  # The test starts once the recorder subscribes to the rig's state topics.
+  # The test starts once the recorder has subscribed (it opens its file last)
+  # and has polled the master once for the other topics.
   for _ in $(seq 1 150); do
-    rostopic info /protocol_status 2>/dev/null | grep -q record && rostopic info /stress 2>/dev/null | grep -q record && break
+    [[ -f "${out}/rig_0.bag.active" ]] && break
     sleep 0.2
   done
+  [[ -f "${out}/rig_0.bag.active" ]] || echo "[rig] warning: the recorder did not start (${ROS_HOME}/rig.log)" >&2
+  sleep 0.5
 fi
 
 echo "[rig] running ${protocol}"

@@ -4,6 +4,7 @@
 //   virtual_triaxial/DemNodelet            = dem_node
 //   virtual_triaxial/ServoControllerNodelet = servo_controller_node
 //   virtual_triaxial/TestProtocolNodelet   = test_protocol_node
+//   virtual_triaxial/BagRecorderNodelet    = bag_recorder (the entry script's recorder)
 //
 // Same classes, parameters, topics and services as the stand-alone nodes
 // (ros/dem_node.h, ros/servo_controller_node.h, ros/test_protocol_node.h);
@@ -22,7 +23,10 @@
 // dem_node's thread while it publishes (ros/inline_callback_queue.h), so
 // both answers are already queued when dem_node starts to wait.
 #include <atomic>
+#include <chrono>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include <nodelet/nodelet.h>
@@ -30,6 +34,7 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 
+#include "virtual_triaxial/ros/bag_recorder.h"
 #include "virtual_triaxial/ros/dem_node.h"
 #include "virtual_triaxial/ros/servo_controller_node.h"
 #include "virtual_triaxial/ros/test_protocol_node.h"
@@ -93,8 +98,48 @@ class ServoControllerNodelet : public QueueThreadNodelet<vt::ros::ServoControlle
 };
 using TestProtocolNodelet = QueueThreadNodelet<vt::ros::TestProtocolNode>;
 
+/// bag_recorder in the rig's process (ros/bag_recorder.h), with the rig's
+/// topics typed. Private parameters: ~prefix (bag files <prefix>_<k>.bag,
+/// required), ~split_mb (512). On unload it writes what is still queued,
+/// then closes the file.
+class BagRecorderNodelet : public nodelet::Nodelet {
+ public:
+  ~BagRecorderNodelet() override {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+    while (recorder_ && !queue_.isEmpty()) queue_.callAvailable(::ros::WallDuration(0));
+    recorder_.reset();
+  }
+
+ private:
+  void onInit() override {
+    ::ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
+    nh.setCallbackQueue(&queue_);
+    std::string prefix;
+    if (!pnh.getParam("prefix", prefix)) throw std::invalid_argument("~prefix: required (bag files <prefix>_<k>.bag)");
+    const double split_mb = pnh.param("split_mb", 512.0);
+    if (!(split_mb > 0.0)) throw std::invalid_argument("~split_mb: must be > 0");
+    recorder_ = std::make_unique<vt::ros::BagRecorder>(
+        nh, prefix, static_cast<std::uint64_t>(split_mb * 1024.0 * 1024.0), true);
+    // Polls instead of waiting on the queue: a thread asleep on the queue
+    // costs the publisher a wake-up call per message, and the recorder has
+    // no latency to keep (its queues are deep).
+    thread_ = std::thread([this] {
+      while (running_ && ::ros::ok()) {
+        queue_.callAvailable(::ros::WallDuration(0));
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    });
+  }
+  ::ros::CallbackQueue queue_;
+  std::unique_ptr<vt::ros::BagRecorder> recorder_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
 }  // namespace vt::nodelets
 
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::DemNodelet, nodelet::Nodelet)
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::ServoControllerNodelet, nodelet::Nodelet)
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::TestProtocolNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(vt::nodelets::BagRecorderNodelet, nodelet::Nodelet)

@@ -5,14 +5,37 @@
 #include <stdexcept>
 #include <vector>
 
+#include <rosgraph_msgs/Clock.h>
+
+#include "virtual_triaxial/CellCommand.h"
+#include "virtual_triaxial/Fabric.h"
+#include "virtual_triaxial/KineticEnergy.h"
+#include "virtual_triaxial/MomentIndex.h"
+#include "virtual_triaxial/ProtocolStatus.h"
+#include "virtual_triaxial/ServoState.h"
+#include "virtual_triaxial/Strain.h"
+#include "virtual_triaxial/Stress.h"
+
 namespace vt::ros {
 
-BagRecorder::BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::uint64_t split_bytes)
+BagRecorder::BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::uint64_t split_bytes,
+                         bool typed_rig_topics)
     : nh_(nh), prefix_(std::move(prefix)), split_bytes_(split_bytes) {
   if (prefix_.empty()) throw std::invalid_argument("output: the bag file prefix is empty");
   if (split_bytes_ == 0) throw std::invalid_argument("split: must be > 0 bytes");
-  open_next();
+  if (typed_rig_topics) {
+    subscribe_typed<virtual_triaxial::Stress>("stress");
+    subscribe_typed<virtual_triaxial::Strain>("strain");
+    subscribe_typed<virtual_triaxial::MomentIndex>("moment_index");
+    subscribe_typed<virtual_triaxial::KineticEnergy>("kinetic_energy");
+    subscribe_typed<virtual_triaxial::Fabric>("fabric");
+    subscribe_typed<virtual_triaxial::ServoState>("servo_state");
+    subscribe_typed<virtual_triaxial::CellCommand>("cell_command");
+    subscribe_typed<virtual_triaxial::ProtocolStatus>("protocol_status");
+    subscribe_typed<rosgraph_msgs::Clock>("/clock");
+  }
   poll_topics();
+  open_next();  // last: the file's appearance tells that the subscriptions exist
   poll_timer_ = nh_.createWallTimer(::ros::WallDuration(0.2), [this](const ::ros::WallTimerEvent&) { poll_topics(); });
 }
 
@@ -25,22 +48,40 @@ void BagRecorder::poll_topics() {
     if (subs_.count(t.name)) continue;
     const std::string name = t.name;
     ::ros::SubscribeOptions so;
-    so.init<topic_tools::ShapeShifter>(
-        name, kQueue, [this, name](const ::ros::MessageEvent<const topic_tools::ShapeShifter>& e) { on_message(name, e); });
+    so.init<topic_tools::ShapeShifter>(name, kQueue,
+                                       [this, name](const ::ros::MessageEvent<const topic_tools::ShapeShifter>& e) {
+                                         on_message<topic_tools::ShapeShifter>(name, e);
+                                       });
     so.transport_hints = ::ros::TransportHints().tcpNoDelay();
     subs_[name] = nh_.subscribe(so);
   }
 }
 
-void BagRecorder::on_message(const std::string& topic, const ::ros::MessageEvent<const topic_tools::ShapeShifter>& e) {
-  ::ros::Time t = ::ros::Time::now();
-  if (t < ::ros::TIME_MIN) t = ::ros::TIME_MIN;
-  if (bag_->getSize() > split_bytes_) {
-    close_current();
-    open_next();
-  }
-  bag_->write(topic, t, e.getConstMessage(), e.getConnectionHeaderPtr());
+template <class M>
+void BagRecorder::subscribe_typed(const std::string& name) {
+  const std::string topic = nh_.resolveName(name);
+  ::ros::SubscribeOptions so;
+  so.init<M>(topic, kQueue, [this, topic](const ::ros::MessageEvent<const M>& e) { on_message<M>(topic, e); });
+  so.transport_hints = ::ros::TransportHints().tcpNoDelay();
+  subs_[topic] = nh_.subscribe(so);
+}
+
+template <class M>
+void BagRecorder::on_message(const std::string& topic, const ::ros::MessageEvent<const M>& e) {
+  split_if_full();
+  bag_->write(topic, stamp(), e.getConstMessage(), e.getConnectionHeaderPtr());
   ++messages_;
+}
+
+::ros::Time BagRecorder::stamp() const {
+  const ::ros::Time t = ::ros::Time::now();
+  return t < ::ros::TIME_MIN ? ::ros::TIME_MIN : t;
+}
+
+void BagRecorder::split_if_full() {
+  if (bag_->getSize() <= split_bytes_) return;
+  close_current();
+  open_next();
 }
 
 void BagRecorder::open_next() {

@@ -15,6 +15,12 @@
 // time = receipt time ros::Time::now() (simulation time on use_sim_time,
 // at least ros::TIME_MIN); every rig message also carries its exact
 // simulation time and tick in its header.
+// In the nodelet rig the recorder is a nodelet in the rig's process
+// (virtual_triaxial/BagRecorderNodelet): the rig's own topics (the five
+// state topics, servo_state, cell_command, protocol_status, /clock) are
+// subscribed with their types, so dem_node hands them over as pointers and
+// the serialisation happens in the recorder's thread, not in the lockstep
+// loop; every other topic as above.
 // Files: <prefix>_<k>.bag, k = 0, 1, ...; a new file starts when the current
 // one exceeds split_bytes. A file is written as <name>.active and renamed
 // when closed (on shutdown: SIGINT), as rosbag does.
@@ -35,7 +41,10 @@ class BagRecorder {
  public:
   static constexpr std::uint32_t kQueue = 100000;  ///< subscriber queue per topic [messages]
 
-  BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::uint64_t split_bytes);
+  /// typed_rig_topics: subscribe the rig's own topics with their message
+  /// types (no serialisation in the publisher's thread within one process).
+  BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::uint64_t split_bytes,
+              bool typed_rig_topics = false);
   ~BagRecorder();  ///< closes the current file
   BagRecorder(const BagRecorder&) = delete;
   BagRecorder& operator=(const BagRecorder&) = delete;
@@ -46,7 +55,12 @@ class BagRecorder {
 
  private:
   void poll_topics();
-  void on_message(const std::string& topic, const ::ros::MessageEvent<const topic_tools::ShapeShifter>& e);
+  template <class M>
+  void subscribe_typed(const std::string& name);
+  template <class M>
+  void on_message(const std::string& topic, const ::ros::MessageEvent<const M>& e);
+  ::ros::Time stamp() const;  ///< receipt time, at least ros::TIME_MIN
+  void split_if_full();
   void open_next();
   void close_current();
 

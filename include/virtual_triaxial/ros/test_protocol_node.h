@@ -33,6 +33,12 @@
 // tick k whatever the machine load; it then reconfigures the rig (reset_strain,
 // set_strain_rate on the open-loop axes, servo set_axes / enable / disable /
 // set_confining_pressure) and resumes. A test therefore is deterministic.
+// The stop criteria of a tick are judged as soon as its five messages are in,
+// in the thread that delivers them (ros/inline_callback_queue.h; in the
+// nodelet rig dem_node's own thread, inside its publish), and a tick on which
+// the stage goes on is answered right there; the session's thread records
+// and reports the ticks behind it (at most kMaxLag ticks behind, else the
+// answers wait for it). So the lockstep loop has no thread hand-off.
 //
 // Per test: pause, load_sample(protocol file) (dem_node builds the specimen
 // exactly as triax_run would), then the stages; the summary (phi_peak,
