@@ -10,6 +10,8 @@
 //     stamps; servo_state, protocol_status, cell_command, /clock and the
 //     servo's parameter_updates are there too;
 //   - no process of the rig is left running (its master port is free);
+//   - the same protocol on the rig as three processes (nodelets:=false), with
+//     the bag_recorder process, records every tick and takes the same decisions;
 //   - the checkpoint saved after the consolidation stage continues bit for
 //     bit: triax_run on a protocol holding only the shear stage, started from
 //     that checkpoint, prints the same phi_peak, eps_peak and e0 as the rig.
@@ -190,6 +192,29 @@ TEST_F(RigScript, TheConsolidationCheckpointContinuesBitForBit) {
   const std::string headless = slurp(json);
   for (const char* key : {"phi_peak_deg", "eps_peak", "e0", "mean_moment_index_to_peak", "q_peak_pa"})
     EXPECT_EQ(json_field(headless, key), json_field(summary_, key)) << key;
+}
+
+// The rig as three processes (RIG_ARGS nodelets:=false), recorded by the
+// bag_recorder process instead of the nodelet: every state message is in
+// the bag, and the test takes the same decisions as the nodelet rig.
+TEST_F(RigScript, TheProcessRigWithTheStandaloneRecorderRecordsEveryTickAndAgrees) {
+  ASSERT_EQ(code_, 0);
+  const fs::path out = out_.string() + "_processes";
+  fs::remove_all(out);
+  const std::string cmd = "cd '" VT_SOURCE_DIR "' && OUT='" + out.string() +
+                          "' RIG_ARGS='nodelets:=false' launch_equiv_scripts/run_triaxial.sh "
+                          "tests/data/protocols/rig_script_mini.yaml > '" +
+                          (fs::temp_directory_path() / "vt_rig_script_processes.log").string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << (fs::temp_directory_path() / "vt_rig_script_processes.log");
+  std::vector<fs::path> bags;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().extension() == ".bag" && e.path().filename().string().rfind("rig", 0) == 0) bags.push_back(e.path());
+  ASSERT_FALSE(bags.empty());
+  expect_one_per_tick<virtual_triaxial::Stress>(bags, "/stress", ticks_);
+  expect_one_per_tick<virtual_triaxial::Fabric>(bags, "/fabric", ticks_);
+  const std::string json = slurp(out / "summary.json");
+  for (const char* key : {"phi_peak_deg", "eps_peak", "e0", "mean_moment_index_to_peak", "ticks"})
+    EXPECT_EQ(json_field(json, key), json_field(summary_, key)) << key;
 }
 
 }  // namespace
