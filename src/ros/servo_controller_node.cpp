@@ -2,6 +2,8 @@
 #include "virtual_triaxial/ros/servo_controller_node.h"
 
 #include <cmath>
+
+#include <boost/make_shared.hpp>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
@@ -286,7 +288,10 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
     cmd.axes.push_back(static_cast<std::uint8_t>(a));
     cmd.strain_rate.push_back(out.strain_rate[a]);
   }
-  command_pub_.publish(cmd);
+  // Shared pointers: a dem_node in the same process (nodelet rig) gets the
+  // command at once, in this call; a copy would be handed over by roscpp's
+  // network thread later.
+  command_pub_.publish(boost::make_shared<virtual_triaxial::CellCommand>(std::move(cmd)));
 
   virtual_triaxial::ServoState st;
   st.header = msg->header;
@@ -308,7 +313,7 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
   st.ki = p.ki;
   st.kd = p.kd;
   st.max_rate_change = p.max_rate_change;
-  state_pub_.publish(st);
+  state_pub_.publish(boost::make_shared<virtual_triaxial::ServoState>(std::move(st)));
 }
 
 bool ServoControllerNode::on_set_confining_pressure(virtual_triaxial::SetConfiningPressure::Request& rq,

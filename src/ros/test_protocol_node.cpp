@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <boost/make_shared.hpp>
+
 #include "virtual_triaxial/CellCommand.h"
 #include "virtual_triaxial/ProtocolStatus.h"
 #include "virtual_triaxial/io/scene_error.h"
@@ -120,9 +122,13 @@ void TestProtocolNode::judge_ready() {
       answer(judge_next_);
       j.answered = true;
     }
+    // Wake the session only when dem_node waits for it; otherwise it picks
+    // the tick up at its next poll (a wake-up call per tick would cost the
+    // publishing thread, i.e. the lockstep loop, a system call).
+    const bool waits = !j.answered;
     judged_.emplace(judge_next_, std::move(j));
     ++judge_next_;
-    tick_cv_.notify_all();
+    if (waits) tick_cv_.notify_all();
   }
 }
 
@@ -136,9 +142,11 @@ void TestProtocolNode::arm(TickJudge judge, std::uint64_t start) {
 }
 
 void TestProtocolNode::answer(std::uint64_t tick) {
-  virtual_triaxial::CellCommand c;
-  c.tick = tick;
-  c.owner = pnh_.getNamespace();
+  // A shared pointer: a dem_node in the same process gets it in this call
+  // (a copy would go through roscpp's network thread).
+  auto c = boost::make_shared<virtual_triaxial::CellCommand>();
+  c->tick = tick;
+  c->owner = pnh_.getNamespace();
   command_pub_.publish(c);
 }
 
@@ -160,7 +168,7 @@ std::optional<JudgedTick> TestProtocolNode::wait_tick(std::uint64_t tick) {
     lock.unlock();
     tick_queue_.callAvailable(::ros::WallDuration(0));
     lock.lock();
-    tick_cv_.wait_for(lock, std::chrono::milliseconds(5));
+    tick_cv_.wait_for(lock, std::chrono::milliseconds(2));  // poll: answered ticks do not notify
   }
   return std::nullopt;
 }
