@@ -32,8 +32,9 @@ then a CellCommand with tick k for the controlled axes and a ServoState.
 
 Services, in the node's PRIVATE namespace (e.g. /servo/enable):
 set_confining_pressure (target for every controlled axis, linear ramp over
-ramp_seconds of SIMULATION time), set_axis_targets, enable (claim + start),
-disable (release_axes). Refusals name the field.
+ramp_seconds of SIMULATION time), set_axis_targets, set_axes (change the
+controlled axes; the test protocol node uses it between stages), enable
+(claim + start), disable (release_axes). Refusals name the field.
 
 Timing: only wall-clock threads and message stamps are used (no rospy.Timer,
 which would follow /clock under use_sim_time and stall while dem_node is
@@ -49,7 +50,8 @@ import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, ServoState, Stress
 from virtual_triaxial.srv import (ClaimAxes, GetInfo, ReleaseAxes, SetAxisTargets, SetAxisTargetsResponse,
-                                  SetConfiningPressure, SetConfiningPressureResponse)
+                                  SetConfiningPressure, SetConfiningPressureResponse, SetServoAxes,
+                                  SetServoAxesResponse)
 
 NODE = "py_servo_controller"
 
@@ -172,6 +174,7 @@ class PyServoController:
         self.services = [
             rospy.Service("~set_confining_pressure", SetConfiningPressure, self.on_set_confining_pressure),
             rospy.Service("~set_axis_targets", SetAxisTargets, self.on_set_axis_targets),
+            rospy.Service("~set_axes", SetServoAxes, self.on_set_axes),
             rospy.Service("~enable", Trigger, self.on_enable),
             rospy.Service("~disable", Trigger, self.on_disable),
         ]
@@ -343,6 +346,40 @@ class PyServoController:
             for a in axes:
                 self.ramp.ramp(a, rq.targets[a], self.last_time, rq.ramp_seconds)
             return SetAxisTargetsResponse(True, "targets set")
+
+    def on_set_axes(self, rq):
+        """As servo_controller_node's ~set_axes: release, take the new axes (new
+        ones start at the current target of the first old axis), claim them
+        again with a fresh law when enabled."""
+        with self.lock:
+            axes = list(bytearray(rq.axes)) if isinstance(rq.axes, (bytes, bytearray)) else list(rq.axes)
+            if not axes:
+                return SetServoAxesResponse(False, "axes: no axis given")
+            mask = [False, False, False]
+            for a in axes:
+                if a > 2:
+                    return SetServoAxesResponse(False, "axes: %d is not a cell axis (0 = x, 1 = y, 2 = z)" % a)
+                if mask[a]:
+                    return SetServoAxesResponse(False, "axes: axis %d listed twice" % a)
+                mask[a] = True
+            why = self.release()
+            if why:
+                rospy.logwarn("%s: set_axes: %s", NODE, why)
+            base = self.ramp.value(self.last_time)[self.axes[0]]
+            for a in axes:
+                if not self.mask[a]:
+                    self.ramp.ramp(a, base, self.last_time, 0.0)
+            self.axes = axes
+            self.mask = mask
+            self.law = None
+            self.cmd.axes = list(axes)
+            self.state.controlled = list(mask)
+            if not self.enabled:
+                return SetServoAxesResponse(True, "axes %s (disabled: not claimed)" % axes_text(axes))
+            why = self.try_claim()
+            if why:
+                return SetServoAxesResponse(False, "axes: " + why)
+            return SetServoAxesResponse(True, "axes %s claimed" % axes_text(axes))
 
     def on_enable(self, _rq):
         with self.lock:
