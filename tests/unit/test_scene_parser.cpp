@@ -376,3 +376,18 @@ TEST(SceneParser, MissingSampleFileIsRejected) {
 }
 
 }  // namespace
+
+// Every shipped protocol loads (validation passes, its sample file exists)
+// and has at least one stage.
+TEST(SceneParser, EveryShippedProtocolLoads) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(VT_SOURCE_DIR "/config/protocols")) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    vt::io::SceneConfig sc;
+    ASSERT_NO_THROW(sc = vt::io::load_scene(e.path().string()));
+    EXPECT_FALSE(sc.stages.empty());
+    ++n;
+  }
+  EXPECT_GE(n, 5) << "config/protocols/ should hold the shipped protocols";
+}
