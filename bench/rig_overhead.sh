@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Rig overhead benchmark: the same protocol through the ROS rig
-# (launch_equiv_scripts/run_triaxial.sh, with and without rosbag recording) and headless
+# (launch_equiv_scripts/run_triaxial.sh, with and without the bag recorder) and headless
 # (triax_run); compares the test wall times each reports (set-up, plots and
 # master start excluded) and checks both took the same decisions.
 #   bench/rig_overhead.sh [PROTOCOL.yaml] [REPEATS]
@@ -27,7 +27,7 @@ h="$(best < "${tmp}/headless.t")"; g="$(best < "${tmp}/rig.t")"; n="$(best < "${
 echo "protocol: ${protocol} (best of ${repeats})"
 echo "headless triax_run: ${h} s   phi_peak_deg $(field "${tmp}/headless_0.json" phi_peak_deg)"
 echo "ROS rig, no bag:    ${n} s   phi_peak_deg $(field "${tmp}/rignobag_0/summary.json" phi_peak_deg)"
-echo "ROS rig + rosbag:   ${g} s   phi_peak_deg $(field "${tmp}/rig_0/summary.json" phi_peak_deg)"
+echo "ROS rig + bag:      ${g} s   phi_peak_deg $(field "${tmp}/rig_0/summary.json" phi_peak_deg)"
 awk -v h="${h}" -v n="${n}" 'BEGIN { printf "rig_overhead_without_bag_percent: %.1f\n", 100 * (n - h) / h }'
 awk -v h="${h}" -v g="${g}" 'BEGIN { printf "rig_overhead_percent: %.1f\n", 100 * (g - h) / h }'
 rm -rf "${tmp}"
