@@ -222,9 +222,10 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   const std::uint64_t stage_start = start;
   auto judge = [&, stage_start, n, cap, interval](std::uint64_t t, const TickMessages& m) {
     const std::int64_t steps = static_cast<std::int64_t>(t - stage_start) * n;
-    const bool sample = protocol::is_sample_tick(steps, n, interval);
     TickDecision d;
-    d.why = monitor.check(tick_sample(m, st.axial_axis, steps, sample));
+    d.sample_tick = protocol::is_sample_tick(steps, n, interval);
+    d.sample = tick_sample(m, st.axial_axis, steps, d.sample_tick);
+    d.why = monitor.check(d.sample);
     if (!d.why.empty()) d.kind = TickDecision::Kind::Criterion;
     const char* stop = links.stop_request();
     if (d.why.empty() && steps >= cap && !stop) {
@@ -271,9 +272,9 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
     tick_ = want;
     const TickMessages& m = judged->msgs;
     ctx_.energy_relative_balance_error = m.energy->relative_balance_error;
-    const std::int64_t steps = static_cast<std::int64_t>(tick_ - start) * n;
-    const bool sample = protocol::is_sample_tick(steps, n, scene.output.interval);
-    const protocol::TickSample ts = tick_sample(m, st.axial_axis, steps, sample);
+    const protocol::TickSample& ts = judged->decision.sample;  // as judged
+    const std::int64_t steps = ts.stage_steps;
+    const bool sample = judged->decision.sample_tick;
     const std::string why = judged->decision.why;
     switch (judged->decision.kind) {
       case TickDecision::Kind::Continue:

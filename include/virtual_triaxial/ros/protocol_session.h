@@ -17,6 +17,7 @@
 #include "virtual_triaxial/io/results_recorder.h"
 #include "virtual_triaxial/io/run_summary_json.h"
 #include "virtual_triaxial/io/scene_config.h"
+#include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/ros/tick_collector.h"
 
@@ -34,6 +35,8 @@ struct TickDecision {
   enum class Kind { Continue, Criterion, StepLimit, Stop };
   Kind kind = Kind::Continue;
   std::string why;  ///< "" while the stage goes on; the stop reason, "step limit", "aborted" or "preempted"
+  protocol::TickSample sample;  ///< what the stop criteria saw (stage steps, eps_a, p, q, ...)
+  bool sample_tick = false;     ///< a sample tick (recorded; UFR criteria judged)
 };
 
 /// Decides tick k from its complete state. The node calls it exactly once
