@@ -57,6 +57,7 @@ struct PairInputs {
   // spheroid path only (null/unused for spheres)
   const Vec3* axes;
   const SpheroidSupport* body;  // per particle, this evaluation
+  const double* hertz_radius;   // per particle: R_i of eq. 104, this evaluation
   const Shape* shape;
   SpheroidPairState* sph;
   Mat3 h, lgrad;
@@ -172,8 +173,8 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 /// rebuilds the list, continues bit for bit). Pass 2, in list order: a
 /// sphere-sphere pair takes the closed form (delta = R_i + R_j - |d|,
 /// n = d/|d|, contact point x_i + (R_i - delta/2) n); any pair with a
-/// spheroid is first tested with the separation certificate g(n) < 0 along
-/// its last normal (or d/|d|), which proves it apart without iterating, and
+/// spheroid is first tested with the separation certificate g(n) < 0 at
+/// its warm start (or along d/|d|), which proves it apart without iterating, and
 /// otherwise takes the common-normal solver (spheroid_contact.h, warm-started
 /// from the pair's cache; a sphere enters it as a spheroid with a = b = R).
 /// Then Hertz-Mindlin with R_i the average radius (a + 2b)/3 (eq. 104; R for
@@ -254,13 +255,22 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       const SpheroidSupport& si = in.body[i];
       const SpheroidSupport& sj = in.body[j];
       SpheroidContactCache& cache = in.sph[e].cache;
-      // Separation certificate along the last normal (or the centre line):
+      // Separation certificate at the warm start (or along the centre line):
       // g(n) < 0 proves delta < 0, so no solve; the cache is kept as it is.
-      const Vec3 probe = cache.valid ? cache.normal : (1.0 / std::sqrt(c_dist2[c])) * d;
-      if (spheroid_gap_bound(si, sj, d, probe) < 0.0) {
+      // A solve from the warm start reuses the support values found there.
+      SpheroidStart start;
+      bool apart;
+      if (cache.valid) {
+        start = SpheroidStart::at(si, sj, warm_start_normal(cache));
+        apart = start.gap(d) < 0.0;
+      } else {
+        apart = spheroid_gap_bound(si, sj, d, (1.0 / std::sqrt(c_dist2[c])) * d) < 0.0;
+      }
+      if (apart) {
         delta = -1.0;
       } else {
-        const SpheroidContact sc = detect_spheroid_contact(si, sj, d, &cache, &acc.spheroid);
+        const SpheroidContact sc =
+            detect_spheroid_contact(si, sj, d, &cache, &acc.spheroid, {}, cache.valid ? &start : nullptr);
         delta = sc.overlap;
         nrm = sc.normal;
         cpt = sc.contact_point;
@@ -275,10 +285,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       continue;
     }
     // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
-    const Vec3& ai = in.axes[i];
-    const Vec3& aj = in.axes[j];
-    const double ri = sph_i ? (ai.x + 2.0 * ai.y) / 3.0 : in.rad[i];
-    const double rj = sph_j ? (aj.x + 2.0 * aj.y) / 3.0 : in.rad[j];
+    const double ri = in.hertz_radius[i], rj = in.hertz_radius[j];
     const double r_eff = ri * rj / (ri + rj);
     const Vec3 cj = cpt - d;  // contact point relative to x_j
     const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d + cross(in.omg[j], cj) - cross(in.omg[i], cpt);
@@ -296,7 +303,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
     if (Measure) acc.elastic_energy += r.elastic_energy;
     acc.friction_dissipation += r.friction_dissipation;
-    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(ai.y, aj.y));
+    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(in.axes[i].y, in.axes[j].y));
     acc.sliding += r.sliding ? 1 : 0;
     if (Measure) {
       const double f2 = norm2(f);
@@ -323,11 +330,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const bool spheroids = list.has_spheroids();
   if (spheroids && pd.spheroid.size() != pd.size())
     throw std::logic_error("contact forces: neighbour list without spheroid pair states");
-  if (spheroids) bodies_.resize(n);
+  if (spheroids) {
+    bodies_.resize(n);
+    hertz_radius_.resize(n);
+  }
   const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                       p.radius.data(),   list.offsets().data(), list.owners().data(),
                       pd.partner.data(), pd.spring.data(),      pd.state.data(),
                       pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
+                      hertz_radius_.data(),
                       p.shape.data(),    pd.spheroid.data(),    cell.h(),
                       cell.velocity_gradient(),                 law,
                       dt};
@@ -355,10 +366,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // rotation per particle instead of one per particle and pair.
       const Vec3* axes = p.semi_axes.data();
       const Quaternion* orient = p.orientation.data();
+      const Shape* shape = p.shape.data();
       SpheroidSupport* body = bodies_.data();
+      double* hertz_r = hertz_radius_.data();
 #pragma omp for schedule(static, kChunkSize)
-      for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i)
+      for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i) {
         body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
+        hertz_r[i] = shape[i] == Shape::Spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i];
+      }
       // (implicit barrier)
     }
 #pragma omp for schedule(dynamic, 1)

@@ -26,6 +26,9 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   const std::size_t n = p.size();
   reserve_huge(coef_, n);
   coef_.resize(n);
+  rot_coef_.resize(spheroids_ ? n : 0);
+  for (std::size_t i = 0; spheroids_ && i < n; ++i)
+    rot_coef_[i] = SymmetricStepConstants::of(p.inertia[i], alpha[i], dt);
   for (std::size_t i = 0; i < n; ++i) {
     const double half = 0.5 * alpha[i] * dt;
     Coefficients& c = coef_[i];
@@ -63,19 +66,30 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
         // Rigid-body leapfrog (rigid_rotation.h): kick of L with the torque
         // and damping alpha L (eq. 29), exact torque-free drift of q (eq. 43).
         const Vec3 ib = in.inertia[i];
-        const Quaternion q_old = in.orient[i];
-        Quaternion q = q_old;
-        const Vec3 l_old = angular_momentum_world(q_old, w_old, ib);
-        Vec3 l_new = l_old;
-        advance_rotation(q, l_new, t_in[i], ib, alpha_[i], dt);
-        in.orient[i] = q;
-        w_new = angular_velocity_world(q, l_new, ib);
+        Vec3 l_old, l_new;
+        double two_e_rot;  // L_mid . I_world(q(t))^-1 L_mid = 2 x rotational energy at t
+        if (ib.y == ib.z) {  // symmetric body: every spheroid
+          Quaternion q = in.orient[i];
+          w_new = w_old;
+          const SymmetricRotationStep r = advance_symmetric_rotation(q, w_new, t_in[i], ib, rot_coef_[i]);
+          in.orient[i] = q;
+          l_old = r.l_old;
+          l_new = r.l_new;
+          two_e_rot = r.two_e_rot;
+        } else {
+          const Quaternion q_old = in.orient[i];
+          Quaternion q = q_old;
+          l_old = angular_momentum_world(q_old, w_old, ib);
+          l_new = l_old;
+          advance_rotation(q, l_new, t_in[i], ib, alpha_[i], dt);
+          in.orient[i] = q;
+          w_new = angular_velocity_world(q, l_new, ib);
+          const Vec3 l_mid = 0.5 * (l_old + l_new);
+          two_e_rot = dot(l_mid, angular_velocity_world(q_old, l_mid, ib));
+        }
         vel[i] = v_new;
         omg[i] = w_new;
         const Vec3 v_mid = 0.5 * (v_old + v_new);
-        const Vec3 l_mid = 0.5 * (l_old + l_new);
-        // L_mid . I_world(q(t))^-1 L_mid = 2 x rotational energy at t
-        const double two_e_rot = dot(l_mid, angular_velocity_world(q_old, l_mid, ib));
         const double m = k.mass;
         acc.damping_dissipation += k.alpha_dt * (m * norm2(v_mid) + two_e_rot);
         if (measure) {

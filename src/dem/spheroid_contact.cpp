@@ -51,12 +51,15 @@ struct Local {
   double h00, h01, h11;  // Hessian [m]
   double curv;           // b_i^2/h_i + b_j^2/h_j, scalar curvature scale [m]
   Vec3 t1, t2;
+  double c[2], h[2], ih[2];  // per body (i, j): e.n, support h(n) [m], 1/h
 };
 
-inline void add_body(const Body& s, const Vec3& n, const Vec3& t1, const Vec3& t2, Local& l) {
-  const double c = dot(s.e, n);
-  const double h = std::sqrt(s.b2 + s.k * c * c);
+/// Body `which`'s terms at unit n, given c = e.n and h = h(n).
+inline void add_body(const Body& s, double c, double h, const Vec3& t1, const Vec3& t2, Local& l, int which) {
   const double ih = 1.0 / h;
+  l.c[which] = c;
+  l.h[which] = h;
+  l.ih[which] = ih;
   const double e1 = dot(s.e, t1), e2 = dot(s.e, t2);
   // t_a . p = k c (e.t_a) / h
   const double kc = s.k * c * ih;
@@ -72,17 +75,24 @@ inline void add_body(const Body& s, const Vec3& n, const Vec3& t1, const Vec3& t
   l.curv += r;
 }
 
-inline Local evaluate(const Body& bi, const Body& bj, const Vec3& d, const Vec3& n) {
+/// evaluate() with c = e.n and h(n) of both bodies known.
+inline Local evaluate_with(const Body& bi, const Body& bj, const Vec3& d, const Vec3& n, double ci, double hi,
+                           double cj, double hj) {
   Local l{};
   tangent_basis(n, l.t1, l.t2);
-  add_body(bi, n, l.t1, l.t2, l);
-  add_body(bj, n, l.t1, l.t2, l);
+  add_body(bi, ci, hi, l.t1, l.t2, l, 0);
+  add_body(bj, cj, hj, l.t1, l.t2, l, 1);
   l.g -= dot(n, d);
   l.g1 -= dot(l.t1, d);
   l.g2 -= dot(l.t2, d);
   l.h00 -= l.g;
   l.h11 -= l.g;
   return l;
+}
+
+inline Local evaluate(const Body& bi, const Body& bj, const Vec3& d, const Vec3& n) {
+  const double ci = dot(bi.e, n), cj = dot(bj.e, n);
+  return evaluate_with(bi, bj, d, n, ci, std::sqrt(bi.b2 + bi.k * ci * ci), cj, std::sqrt(bj.b2 + bj.k * cj * cj));
 }
 
 /// Newton step s = -H^-1 G; false if H is not positive definite.
@@ -96,24 +106,43 @@ inline bool newton_step(const Local& l, double& s1, double& s2) {
 }
 
 inline void clamp_step(double& s1, double& s2, double max_step) {
-  const double s = std::sqrt(s1 * s1 + s2 * s2);
-  if (s > max_step) {
-    const double f = max_step / s;
+  const double s_2 = s1 * s1 + s2 * s2;
+  if (s_2 > max_step * max_step) {
+    const double f = max_step / std::sqrt(s_2);
     s1 *= f;
     s2 *= f;
   }
 }
 
 inline Vec3 move(const Local& l, const Vec3& n, double s1, double s2) {
-  return normalized(n + s1 * l.t1 + s2 * l.t2);
+  return normalized_near_unit(n + s1 * l.t1 + s2 * l.t2);
+}
+
+/// Support point p(n) and h(n) of body `which` at the unit n reached by a
+/// converged Newton step from the point evaluated in l: with x = (h(n)^2 -
+/// h_l^2)/h_l^2 = k (c^2 - c_l^2)/h_l^2 (|x| ~ the step, <= 1e-5 or so),
+/// h = h_l sqrt(1 + x) and 1/h by their series to x^3 (error < x^4, far
+/// below rounding), instead of a square root and a division; exact when
+/// |x| > 1e-4.
+inline Vec3 support_point_near(const Body& s, const Vec3& n, const Local& l, int which, double* h_out) {
+  const double c = dot(s.e, n);
+  const double cl = l.c[which], ihl = l.ih[which];
+  const double x = s.k * (c - cl) * (c + cl) * (ihl * ihl);
+  if (!(std::fabs(x) <= 1e-4)) return support_point(s, n, h_out);
+  *h_out = l.h[which] * (1.0 + x * (0.5 + x * (-0.125 + x * 0.0625)));
+  const double ih = ihl * (1.0 + x * (-0.5 + x * (0.375 - x * 0.3125)));
+  return ih * (s.b2 * n + (s.k * c) * s.e);
 }
 
 /// Plain Newton. Returns true when the step test is met with H positive
-/// definite; n holds the last iterate either way.
+/// definite; n holds the last iterate either way, and *last the evaluation
+/// the last step was taken from.
+/// `first`: the evaluation at the starting n when the caller has it, or null.
 bool plain_newton(const Body& bi, const Body& bj, const Vec3& d, Vec3& n, int max_it, double tol,
-                  double max_step, int& iterations) {
+                  double max_step, int& iterations, Local* last, const Local* first) {
   for (int it = 0; it < max_it; ++it) {
-    const Local l = evaluate(bi, bj, d, n);
+    *last = (it == 0 && first) ? *first : evaluate(bi, bj, d, n);
+    const Local& l = *last;
     double s1, s2;
     if (!newton_step(l, s1, s2)) return false;
     ++iterations;
@@ -173,7 +202,8 @@ SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, 
 
 SpheroidContact detect_spheroid_contact(const SpheroidSupport& bi, const SpheroidSupport& bj,
                                         const Vec3& d, SpheroidContactCache* cache,
-                                        SpheroidContactStats* stats, const SpheroidContactOptions& opt) {
+                                        SpheroidContactStats* stats, const SpheroidContactOptions& opt,
+                                        const SpheroidStart* start) {
   SpheroidContactStats local_stats;
   SpheroidContactStats& st = stats ? *stats : local_stats;
   ++st.calls;
@@ -190,8 +220,12 @@ SpheroidContact detect_spheroid_contact(const SpheroidSupport& bi, const Spheroi
 
   const double tol = opt.step_tolerance;
 
-  // Acceptance bound: delta <= g(d/|d|) <= r_i + r_j - |d| (h <= r).
-  const double bound = reach - std::sqrt(d2) + 1e-12 * reach;
+  // Acceptance bound: delta <= g(d/|d|) <= r_i + r_j - |d| (h <= r), i.e.
+  // |d| <= reach (1 + 1e-12) - delta, tested in squares (no square root).
+  auto within_bound = [&](double delta) {
+    const double rhs = reach + 1e-12 * reach - delta;
+    return rhs >= 0.0 && d2 <= rhs * rhs;
+  };
 
   // Cold start: n0 = (A_i^-1 + A_j^-1)^-1 d / |.| = adj(B) d / |.| (B is
   // positive definite, det B > 0).
@@ -214,23 +248,35 @@ SpheroidContact detect_spheroid_contact(const SpheroidSupport& bi, const Spheroi
 
   const bool warm = cache && cache->valid;
   Vec3 n;
+  Local first;
+  const bool have_first = warm && start;
   if (warm) {
     ++st.warm_starts;
-    // linear extrapolation of the last two solutions: a normal turning at a
-    // steady rate is predicted to O(rate^2)
-    n = cache->has_previous ? normalized(2.0 * cache->normal - cache->previous)
-                            : normalized(cache->normal);
+    if (have_first) {
+      n = start->n;
+      first = evaluate_with(bi, bj, d, n, start->ci, start->hi, start->cj, start->hj);
+    } else {
+      n = warm_start_normal(*cache);
+    }
   } else {
     n = cold_start();
   }
 
   int iterations = 0;
-  bool ok = plain_newton(bi, bj, d, n, opt.max_iterations, tol, opt.max_step, iterations);
+  Local last;
+  bool ok = plain_newton(bi, bj, d, n, opt.max_iterations, tol, opt.max_step, iterations, &last,
+                         have_first ? &first : nullptr);
   double hi, hj;
-  Vec3 pi = support_point(bi, n, &hi);
-  Vec3 pj = support_point(bj, n, &hj);
+  Vec3 pi, pj;
+  if (ok) {  // n is one converged (small) step from the point `last` was evaluated at
+    pi = support_point_near(bi, n, last, 0, &hi);
+    pj = support_point_near(bj, n, last, 1, &hj);
+  } else {
+    pi = support_point(bi, n, &hi);
+    pj = support_point(bj, n, &hj);
+  }
   double delta = hi + hj - dot(n, d);
-  ok = ok && delta <= bound;
+  ok = ok && within_bound(delta);
 
   bool fallback = false;
   if (!ok) {
@@ -246,7 +292,7 @@ SpheroidContact detect_spheroid_contact(const SpheroidSupport& bi, const Spheroi
     pi = support_point(bi, n, &hi);
     pj = support_point(bj, n, &hj);
     delta = hi + hj - dot(n, d);
-    ok = ok && delta <= bound;
+    ok = ok && within_bound(delta);
   }
 
   st.iterations += static_cast<std::uint64_t>(iterations);

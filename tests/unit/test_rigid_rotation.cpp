@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "virtual_triaxial/dem/rigid_rotation.h"
 #include "virtual_triaxial/dem/spheroid.h"
@@ -273,4 +274,29 @@ TEST(RigidRotation, PowerOfTwoScalingIsExact) {
       EXPECT_EQ(ws.z * ft, w.z);
     }
   }
+}
+
+TEST(RigidRotation, SmallAngleCosSinMatchesTheLibraryToRounding) {
+  // cos_sin uses Taylor polynomials for |x| <= 1/16 (truncation < 1e-19):
+  // it must agree with std::cos / std::sin to a few units in the last place,
+  // on both sides of the switch and for the tiny angles of a DEM step.
+  double worst = 0.0;
+  for (int k = -2000; k <= 2000; ++k) {
+    for (const double scale : {1.0 / 16, 1e-3, 1e-7}) {
+      const double x = scale * k / 2000.0;
+      double c, s;
+      cos_sin(x, c, s);
+      worst = std::max(worst, std::fabs(c - std::cos(x)) / std::numeric_limits<double>::epsilon());
+      if (x != 0.0)
+        worst = std::max(worst, std::fabs(s - std::sin(x)) / (std::fabs(std::sin(x)) *
+                                                                std::numeric_limits<double>::epsilon()));
+      else
+        EXPECT_EQ(s, 0.0);
+    }
+  }
+  EXPECT_LT(worst, 2.0);  // in units of epsilon (relative for sin)
+  double c, s;
+  cos_sin(0.7, c, s);  // beyond the switch: the library values
+  EXPECT_EQ(c, std::cos(0.7));
+  EXPECT_EQ(s, std::sin(0.7));
 }

@@ -515,6 +515,44 @@ TEST(SpheroidContact, WarmStartNeedsFewerIterations) {
   }
 }
 
+TEST(SpheroidContact, GivenStartValuesGiveTheSameSolveBitForBit) {
+  // The pair loop computes the support values at the warm start for its
+  // separation certificate and hands them to the solver (SpheroidStart):
+  // the solve must be the one it would do on its own, bit for bit, and the
+  // certificate g(start) must bound the overlap from above.
+  Rng rng(9090);
+  const double b = 1e-3;
+  Spheroid si(1.2 * b, b, rng.rotation()), sj(1.2 * b, b, rng.rotation());
+  Vec3 d = construct(si, sj, rng.direction(), 1e-3 * b).d;
+  const Vec3 ui = rng.direction(), uj = rng.direction(), v = (1e-6 * b) * rng.direction();
+  SpheroidContactCache plain, given;
+  int warm = 0;
+  for (int s = 0; s < 300; ++s) {
+    si.q = axis_rotation(ui, 1e-4) * si.q;
+    sj.q = axis_rotation(uj, 1e-4) * sj.q;
+    d += v;
+    const SpheroidSupport bi = SpheroidSupport::of(si), bj = SpheroidSupport::of(sj);
+    const SpheroidContact a = detect_spheroid_contact(bi, bj, d, &plain);
+    SpheroidContact c;
+    if (given.valid) {
+      ++warm;
+      const SpheroidStart start = SpheroidStart::at(bi, bj, warm_start_normal(given));
+      EXPECT_GE(start.gap(d), a.overlap - 1e-12 * b);  // min g <= g(n), to rounding
+      c = detect_spheroid_contact(bi, bj, d, &given, nullptr, {}, &start);
+    } else {
+      c = detect_spheroid_contact(bi, bj, d, &given);
+    }
+    ASSERT_TRUE(a.converged);
+    EXPECT_EQ(a.overlap, c.overlap);
+    EXPECT_EQ(a.normal.x, c.normal.x);
+    EXPECT_EQ(a.normal.y, c.normal.y);
+    EXPECT_EQ(a.normal.z, c.normal.z);
+    EXPECT_EQ(a.contact_point.x, c.contact_point.x);
+    EXPECT_EQ(a.contact_point.z, c.contact_point.z);
+  }
+  EXPECT_EQ(warm, 299);
+}
+
 TEST(SpheroidContact, BadWarmStartTakesFallbackAndStillGetsTheAnswer) {
   Rng rng(555);
   SpheroidContactStats st;

@@ -37,8 +37,10 @@
 // one of the plain loops (list order for the chunk sums, ascending partner
 // id per particle), so the results do not depend on these choices.
 // Spheroid path: the support data of every particle (b^2, a^2 - b^2 and the
-// symmetry axis e = q (1,0,0), SpheroidSupport) is computed once per
-// evaluation, not once per pair; the moment on j is kept in
+// symmetry axis e = q (1,0,0), SpheroidSupport) and its Hertz radius
+// (eq. 104) are computed once per evaluation, not once per pair; the
+// separation certificate is evaluated at the warm start, and a solve reuses
+// those support values (SpheroidStart); the moment on j is kept in
 // PairState::moment_axis, so the gather reads one line for an entry of
 // another particle (the moment on i is in the SpheroidPairState, read for
 // the particle's own, consecutive entries).
@@ -92,6 +94,7 @@ class ContactForces {
   std::vector<ContactSums> chunk_sums_;
   std::vector<Scratch> scratch_;
   std::vector<SpheroidSupport> bodies_;  ///< spheroid path: per particle, rebuilt every call
+  std::vector<double> hertz_radius_;     ///< spheroid path: R_i of eq. 104 per particle, every call
 };
 
 }  // namespace vt::dem

@@ -35,6 +35,7 @@
 
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/rigid_rotation.h"
 
 namespace vt::dem {
 
@@ -95,6 +96,7 @@ class LeapfrogIntegrator {
   bool spheroids_ = false;
   std::vector<double> alpha_;
   std::vector<Coefficients> coef_;
+  std::vector<SymmetricStepConstants> rot_coef_;  ///< spheroids (empty without any)
   std::vector<IntegrationSums> chunk_sums_;
 };
 

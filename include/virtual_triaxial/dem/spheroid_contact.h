@@ -56,7 +56,12 @@
 // inverse shape matrix A_i^-1 + A_j^-1 along d,
 // n0 = (A_i^-1 + A_j^-1)^-1 d / |.| (exact for spheres and aligned pairs).
 // Convergence test: the Newton step |s| <= step_tolerance (default 1e-5 rad),
-// after which that step is applied and the iteration stops. Convergence is
+// after which that step is applied and the iteration stops. That last move
+// is normalised by one Newton step for 1/|v| (|v|^2 = 1 + |s|^2, error
+// ~|s|^4), and the support points there are the ones of the evaluated
+// point carried over by the series of sqrt(1 + x) and 1/sqrt(1 + x) to x^3,
+// x = (h_new^2 - h^2)/h^2 ~ |s| (error ~x^4, below rounding): a converged
+// solve takes two square roots and four divisions in all. Convergence is
 // quadratic: the step just applied leaves a normal error ~0.7 |s|^2 <= 1e-10
 // (measured on 2000 random pairs of aspect <= 2), and since g is stationary
 // at n* the overlap error is ~ (curvature radius) |dn|^2, far below rounding:
@@ -78,7 +83,10 @@
 // changes of the length unit. Deterministic (no randomness, fixed order).
 // Swapping i and j gives n -> -n and the same overlap (to rounding).
 // Cost (one core; tests/unit/test_spheroid_contact.cpp prints it): a Newton
-// step is ~90 flops with 3 square roots and 4 divisions on its critical path.
+// step is ~90 flops with 2 square roots and 4 divisions on its critical path.
+// The pair loop (contact_forces.cpp) first evaluates g at the warm start for
+// its separation certificate and passes those support values in
+// (SpheroidStart), so a warm solve repeats none of them.
 // Warm start: 1 step when the extrapolated normal is within 1e-5 rad (steady
 // turning up to 1e-3 rad per step is tested), 2 steps for errors up to
 // ~3e-3 rad; cold: 2-4 steps (mean 2.8 for aspect 1-2). Measured on the
@@ -161,6 +169,46 @@ struct SpheroidSupport {
   }
 };
 
+/// v / |v| for |v|^2 within 1e-6 of 1 by one Newton step for 1/|v|
+/// (relative error <= 3/8 (|v|^2 - 1)^2, no square root or division: the
+/// Newton moves of a converged solve and the warm starts are of this kind);
+/// the exact normalisation otherwise.
+inline Vec3 normalized_near_unit(const Vec3& v) {
+  const double v2 = norm2(v);
+  if (std::fabs(v2 - 1.0) <= 1e-6) return (1.5 - 0.5 * v2) * v;
+  return (1.0 / std::sqrt(v2)) * v;
+}
+
+/// The Newton start of a warm solve (cache.valid): the linear extrapolation
+/// (2 n_k - n_k-1)/|.| of the last two converged normals, which predicts a
+/// normal turning at a steady rate to O(rate^2), or the last normal.
+inline Vec3 warm_start_normal(const SpheroidContactCache& cache) {
+  return cache.has_previous ? normalized_near_unit(2.0 * cache.normal - cache.previous)
+                            : normalized_near_unit(cache.normal);
+}
+
+/// A warm start with the support values of both bodies there, as the pair
+/// loop has them from its separation certificate (the solve then does not
+/// compute them again). n must be warm_start_normal(cache).
+struct SpheroidStart {
+  Vec3 n;          ///< unit start normal
+  double ci = 0;   ///< e_i . n
+  double hi = 0;   ///< h_i(n) [m]
+  double cj = 0;   ///< e_j . n
+  double hj = 0;   ///< h_j(n) [m]
+  static SpheroidStart at(const SpheroidSupport& si, const SpheroidSupport& sj, const Vec3& n) {
+    SpheroidStart s;
+    s.n = n;
+    s.ci = dot(si.e, n);
+    s.hi = std::sqrt(si.b2 + si.k * s.ci * s.ci);
+    s.cj = dot(sj.e, n);
+    s.hj = std::sqrt(sj.b2 + sj.k * s.cj * s.cj);
+    return s;
+  }
+  /// g(n) = h_i + h_j - n.d [m]: < 0 proves the bodies apart.
+  double gap(const Vec3& d) const { return hi + hj - dot(n, d); }
+};
+
 /// Separation certificate: g(n) = h_i(n) + h_j(n) - n.d [m] for a unit n.
 /// delta = min g <= g(n), so g(n) < 0 proves the bodies apart (no iteration
 /// needed); callers try the pair's last normal. Cost: 2 square roots.
@@ -172,10 +220,13 @@ double spheroid_gap_bound(const Spheroid& si, const Spheroid& sj, const Vec3& d,
 
 /// Detect the contact of spheroid j (centre x_i + d) with spheroid i (centre x_i).
 /// cache may be null (always cold start); stats may be null.
+/// start: the warm start with its support values (cache->valid required),
+/// or null.
 SpheroidContact detect_spheroid_contact(const SpheroidSupport& si, const SpheroidSupport& sj,
                                         const Vec3& d, SpheroidContactCache* cache = nullptr,
                                         SpheroidContactStats* stats = nullptr,
-                                        const SpheroidContactOptions& opt = {});
+                                        const SpheroidContactOptions& opt = {},
+                                        const SpheroidStart* start = nullptr);
 SpheroidContact detect_spheroid_contact(const Spheroid& si, const Spheroid& sj, const Vec3& d,
                                         SpheroidContactCache* cache = nullptr,
                                         SpheroidContactStats* stats = nullptr,
