@@ -3,6 +3,7 @@
 //
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
+//               [--no-sleep]
 //
 // --shape spheroid: prolate spheroids of aspect ratio K (default 1.2) whose
 // nominal (equal-volume) radii are the sphere radii below (CloudRequest::
@@ -37,6 +38,8 @@
 // Default S = max(200, 3e7 / N). --skin-ratio X rebuilds the Simulation from
 // its state with SimulationSettings::skin_ratio = X before timing (physics
 // unchanged, so the fingerprint must not change; only pairs and rebuilds do).
+// --no-sleep: spheroid pairs found apart are tested every step
+// (Simulation::set_sleep_apart_pairs(false); same fingerprint, for A/B).
 //
 // Output (stdout), "key: value" lines, us_per_particle_step last:
 //   rss_bytes_per_particle = VmRSS after timing / N. It is the whole process:
@@ -100,7 +103,8 @@ int usage(const char* msg) {
                "  --no-sort: keep the cloud generator's storage order,\n"
                "  X > 0: Verlet skin / L0 during timing (default: SimulationSettings),\n"
                "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
-               "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n";
+               "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
+               "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n";
   return 2;
 }
 
@@ -325,6 +329,7 @@ int main(int argc, char** argv) {
   double skin_ratio = -1.0;
   std::string cache_dir;
   bool spheroids = false;
+  bool sleep = true;
   double aspect = 1.2;
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
@@ -363,6 +368,8 @@ int main(int argc, char** argv) {
       ++a;
     } else if (k == "--no-sort") {
       sort = false;
+    } else if (k == "--no-sleep") {
+      sleep = false;
     } else if (k == "-h" || k == "--help") {
       return usage(nullptr);
     } else {
@@ -432,11 +439,13 @@ int main(int argc, char** argv) {
     st.settings.skin_ratio = skin_ratio;
     sim = std::make_unique<Simulation>(st);
   }
+  sim->set_sleep_apart_pairs(sleep);
   const double shear = kShearRate / sim->time_scale().t0;
   sim->set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
   for (int k = 0; k < 50; ++k)
     if (!sim->step(false)) die(*sim);
   const std::int64_t rebuilds0 = sim->neighbor_list().rebuild_count();
+  const std::uint64_t asleep0 = sim->spheroid_contact_stats().asleep;
   const double cpu0 = process_cpu_seconds();
   const auto t_run = Clock::now();
   for (long long k = 0; k < steps; ++k)
@@ -444,6 +453,7 @@ int main(int argc, char** argv) {
   const double wall = seconds_since(t_run);
   const double cpu = process_cpu_seconds() - cpu0;
   const std::int64_t rebuilds = sim->neighbor_list().rebuild_count() - rebuilds0;
+  const std::uint64_t asleep = sim->spheroid_contact_stats().asleep - asleep0;
   const double rss = proc_status_bytes("VmRSS");
   const double hwm = proc_status_bytes("VmHWM");
   if (!sim->step(true)) die(*sim);  // not timed: measures for the report
@@ -472,6 +482,8 @@ int main(int argc, char** argv) {
                 cs.solves ? static_cast<double>(cs.iterations) / static_cast<double>(cs.solves) : 0.0);
     std::printf("spheroid_contact_fallbacks: %llu\n", static_cast<unsigned long long>(cs.fallbacks));
     std::printf("spheroid_contact_failures: %llu\n", static_cast<unsigned long long>(cs.failures));
+    std::printf("spheroid_pairs_asleep_per_particle_step: %.3f\n",
+                static_cast<double>(asleep) / (np * static_cast<double>(steps)));
   }
   std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
   std::printf("wall_seconds: %.3f\n", wall);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/chunked.h"
@@ -58,6 +59,8 @@ struct PairInputs {
   const Vec3* axes;
   const SpheroidSupport* body;  // per particle, this evaluation
   const double* hertz_radius;   // per particle: R_i of eq. 104, this evaluation
+  double clock;                 // motion clock [m] (ContactForces::set_motion_clock); +inf: no sleep
+  bool sleep;                   // pairs found apart sleep
   const Shape* shape;
   SpheroidPairState* sph;
   Mat3 h, lgrad;
@@ -167,7 +170,9 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 
 /// Pairs owned by particles [i_begin, i_end) when the particles include
 /// spheroids (in.body: SpheroidSupport of every particle, this evaluation).
-/// Pass 1 keeps the pairs whose bounding spheres (radius a) overlap and
+/// Pass 1 keeps the pairs whose bounding spheres (radius a) overlap, except
+/// those asleep (found apart earlier and certified apart since by the motion
+/// clock, ContactForces::set_motion_clock), and
 /// drops the solver cache of every other pair (so the cache of a pair
 /// depends only on its own history while in reach: a restart, which
 /// rebuilds the list, continues bit for bit). Pass 2, in list order: a
@@ -191,8 +196,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   const double dt = in.dt;
   const std::int32_t e_begin = in.off[i_begin], e_end = in.off[i_end];
 
-  // Pass 1: bounding-sphere test for every listed pair.
+  // Pass 1: bounding-sphere test for every listed pair; pairs asleep (see
+  // ContactForces::set_motion_clock) skip pass 2.
   std::int32_t nc = 0, ns = 0;
+  std::int64_t slept = 0;
   for (std::int32_t e = e_begin; e < e_end; ++e) {
     if (e + kPrefetchEntries < e_end) {
       const std::int32_t jp = in.partner[e + kPrefetchEntries];
@@ -207,13 +214,18 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const double dist2 = norm2(d);
     const double reach = in.axes[i].x + in.axes[j].x;
     const bool in_reach = dist2 < reach * reach;
+    // asleep: in reach and certified apart until the motion clock reads `wake`
+    const bool asleep = in.clock < in.sph[e].wake;
     c_entry[nc] = e;
     c_branch[nc].x = d.x;  // by component: a whole-Vec3 copy went through a
     c_branch[nc].y = d.y;  // stack slot (store-forwarding stall)
     c_branch[nc].z = d.z;
     c_dist2[nc] = dist2;
-    nc += in_reach ? 1 : 0;
-    // out of reach: cache.reset(), without a branch (the test is a coin flip)
+    nc += (in_reach && !asleep) ? 1 : 0;
+    slept += (in_reach && asleep) ? 1 : 0;
+    // Out of reach: cache.reset() and awake (the sleep bound needs |d| <
+    // a_i + a_j), without a branch (the test is a coin flip).
+    in.sph[e].wake = in_reach ? in.sph[e].wake : 0.0;
     SpheroidContactCache& cache = in.sph[e].cache;
     cache.valid = cache.valid && in_reach;
     cache.has_previous = cache.has_previous && in_reach;
@@ -228,8 +240,9 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     in.sph[e].torque_i = Vec3{};
   }
 
-  // Pass 2: the pairs in reach, in list order.
+  // Pass 2: the pairs in reach and awake, in list order.
   ContactSums acc;
+  acc.spheroid.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
   for (std::int32_t c = 0; c < nc; ++c) {
@@ -246,11 +259,13 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const bool sph_i = in.shape[i] == Shape::Spheroid, sph_j = in.shape[j] == Shape::Spheroid;
     double delta;
     Vec3 nrm, cpt;  // normal i -> j; contact point relative to x_i [m]
+    double gap = 0.0;  // > 0: apart by at least this along some fixed normal [m]
     if (!sph_i && !sph_j) {
       const double dist = std::sqrt(c_dist2[c]);
       delta = in.rad[i] + in.rad[j] - dist;
       nrm = (1.0 / dist) * d;
       cpt = (in.rad[i] - 0.5 * delta) * nrm;
+      gap = -delta;
     } else {
       const SpheroidSupport& si = in.body[i];
       const SpheroidSupport& sj = in.body[j];
@@ -259,21 +274,27 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       // g(n) < 0 proves delta < 0, so no solve; the cache is kept as it is.
       // A solve from the warm start reuses the support values found there.
       SpheroidStart start;
-      bool apart;
+      double g;  // g(n) >= delta at the probe n
       if (cache.valid) {
         start = SpheroidStart::at(si, sj, warm_start_normal(cache));
-        apart = start.gap(d) < 0.0;
+        g = start.gap(d);
       } else {
-        apart = spheroid_gap_bound(si, sj, d, (1.0 / std::sqrt(c_dist2[c])) * d) < 0.0;
+        g = spheroid_gap_bound(si, sj, d, (1.0 / std::sqrt(c_dist2[c])) * d);
       }
-      if (apart) {
+      if (g < 0.0) {
         delta = -1.0;
+        gap = -g;
       } else {
+        // The cache follows contacts only: a solve that finds the pair apart
+        // leaves it as it was, so an apart pair's evaluation has no effect.
+        SpheroidContactCache trial = cache;
         const SpheroidContact sc =
-            detect_spheroid_contact(si, sj, d, &cache, &acc.spheroid, {}, cache.valid ? &start : nullptr);
+            detect_spheroid_contact(si, sj, d, &trial, &acc.spheroid, {}, cache.valid ? &start : nullptr);
         delta = sc.overlap;
         nrm = sc.normal;
         cpt = sc.contact_point;
+        if (delta > 0.0) cache = trial;
+        gap = sc.converged ? -delta : 0.0;  // delta = g(n*) when converged
       }
     }
     SpheroidPairState& sp = in.sph[e];
@@ -282,6 +303,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       st = PairState{};
       in.spring[e] = Vec3{};
       sp.torque_i = Vec3{};
+      if (in.sleep && gap > 0.0) sp.wake = in.clock + 0.5 * gap;
       continue;
     }
     // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
@@ -339,6 +361,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                       pd.partner.data(), pd.spring.data(),      pd.state.data(),
                       pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
                       hertz_radius_.data(),
+                      sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                       p.shape.data(),    pd.spheroid.data(),    cell.h(),
                       cell.velocity_gradient(),                 law,
                       dt};

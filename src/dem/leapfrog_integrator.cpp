@@ -15,6 +15,8 @@ void IntegrationSums::add(const IntegrationSums& o) {
   kinetic_rotational += o.kinetic_rotational;
   sum_inertia_moment += o.sum_inertia_moment;
   max_displacement2 = std::max(max_displacement2, o.max_displacement2);
+  max_speed2 = std::max(max_speed2, o.max_speed2);
+  max_spin2 = std::max(max_spin2, o.max_spin2);
   finite = finite && o.finite;
 }
 
@@ -122,6 +124,8 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
     const Vec3 ds = PeriodicCell::minimum_image(s - s_build[i]);
     const double d2 = norm2(h * ds);
     acc.max_displacement2 = std::max(acc.max_displacement2, d2);
+    acc.max_speed2 = std::max(acc.max_speed2, norm2(v_new));
+    acc.max_spin2 = std::max(acc.max_spin2, norm2(w_new));
     if (!std::isfinite(d2) || !std::isfinite(v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z))
       acc.finite = false;
   }

@@ -13,6 +13,7 @@ void SpheroidContactStats::add(const SpheroidContactStats& o) {
   iterations += o.iterations;
   fallbacks += o.fallbacks;
   failures += o.failures;
+  asleep += o.asleep;
 }
 
 namespace {

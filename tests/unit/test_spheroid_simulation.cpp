@@ -519,3 +519,100 @@ TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
   omp_set_num_threads(before);
   expect_same_state(one.state(), three.state());
 }
+
+TEST(SpheroidSleep, PairsFoundApartSleepWithoutChangingAnyResult) {
+  // Sheared loaded packing: letting pairs in reach that were found apart
+  // sleep (ContactForces::set_motion_clock) must skip many evaluations and
+  // change nothing, bit for bit: the motion-clock bound says they cannot
+  // have touched, and evaluating an apart pair has no effect.
+  const SimulationState start = loaded_spheroid_packing();
+  Simulation awake(start);
+  awake.set_sleep_apart_pairs(false);
+  Simulation sleeping(start);
+  ASSERT_EQ(awake.run(2000), 2000) << awake.failure();
+  ASSERT_EQ(sleeping.run(2000), 2000) << sleeping.failure();
+  expect_same_state(awake.state(), sleeping.state());
+  EXPECT_EQ(awake.spheroid_contact_stats().asleep, 0u);
+  const double per_step = static_cast<double>(sleeping.spheroid_contact_stats().asleep) / (2000.0 * 300.0);
+  std::printf("[ sleep ] pairs asleep per particle-step %.2f; solves %llu awake, %llu sleeping\n", per_step,
+              static_cast<unsigned long long>(awake.spheroid_contact_stats().solves),
+              static_cast<unsigned long long>(sleeping.spheroid_contact_stats().solves));
+  EXPECT_GT(per_step, 0.2);  // a real share of the pairs in reach sleeps
+  EXPECT_EQ(sleeping.spheroid_contact_stats().fallbacks, 0u);
+}
+
+TEST(SpheroidSleep, FastGasesGiveTheSameResultsAsleepOrAwake) {
+  // Dense frictionless gases: 10 m/s and 2000 rad/s (translation drives the
+  // motion clock), then spin alone at 2e4 rad/s (the a - b term does): the
+  // collisions must be found on the same step as without sleeping.
+  for (const bool spin_only : {false, true}) {
+    SimulationState start = dense_spheroid_gas(0.1);
+    if (spin_only) vt::test::randomize_velocities(start.particles, 0.0, 2e4, 13);
+    Simulation awake(start);
+    awake.set_sleep_apart_pairs(false);
+    Simulation sleeping(start);
+    ASSERT_EQ(awake.run(3000), 3000) << awake.failure();
+    ASSERT_EQ(sleeping.run(3000), 3000) << sleeping.failure();
+    expect_same_state(awake.state(), sleeping.state());
+    std::printf("[ sleep ] gas%s: pairs asleep per particle-step %.2f\n", spin_only ? " (spin only)" : "",
+                static_cast<double>(sleeping.spheroid_contact_stats().asleep) / (3000.0 * 200.0));
+    EXPECT_GT(sleeping.spheroid_contact_stats().asleep, 0u);
+  }
+}
+
+TEST(SpheroidSleep, ASpinningTipIsCaughtOnTheStepItTouches) {
+  // Rotation alone closes the gap: i spins about z (no translation, no
+  // straining) and its tip sweeps into j's side. Only the a - b term of the
+  // motion clock runs, and the first contact must come on the same step
+  // asleep or awake.
+  const double a = 1.2e-3, b = 1e-3;
+  PairScene s;
+  const Vec3 c{0.01, 0.01, 0.01};
+  add_at(s, 0, a, b, {}, c, {}, Vec3{0, 0, 300.0});  // axis along x, turning toward y
+  add_at(s, 1, a, b, {}, c + Vec3{0, a + b - 2e-5, 0});  // apart by ~0.18 mm while i lies along x
+  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
+  std::int64_t first[2] = {-1, -1};
+  for (const bool sleep : {false, true}) {
+    Simulation sim(s.p, s.cell, st);
+    sim.set_sleep_apart_pairs(sleep);
+    for (std::int64_t k = 0; k < 200000 && first[sleep] < 0; ++k) {
+      ASSERT_TRUE(sim.step(true)) << sim.failure();
+      if (sim.measures().contacts > 0) first[sleep] = k;
+    }
+    if (sleep) {
+      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
+    }
+  }
+  std::printf("[ sleep ] spinning tip: first contact at step %lld awake, %lld asleep\n",
+              static_cast<long long>(first[0]), static_cast<long long>(first[1]));
+  ASSERT_GT(first[0], 10);  // apart at the start, touching later
+  EXPECT_EQ(first[0], first[1]);
+}
+
+TEST(SpheroidSleep, ACompressingCellIsCaughtOnTheStepItBringsAPairIntoTouch) {
+  // The cell's deformation alone closes the gap (particles at rest, isotropic
+  // compression): only the ||F - I|| term of the motion clock runs.
+  const double a = 1.2e-3, b = 1e-3;
+  PairScene s;
+  const Vec3 c{0.01, 0.01, 0.01};
+  add_at(s, 0, a, b, {}, c);
+  add_at(s, 1, a, b, axis_rotation({0, 0, 1}, 0.3), c + Vec3{0, 2.03e-3, 0});  // apart by ~11 um
+  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
+  std::int64_t first[2] = {-1, -1};
+  for (const bool sleep : {false, true}) {
+    Simulation sim(s.p, s.cell, st);
+    sim.set_sleep_apart_pairs(sleep);
+    sim.set_strain_rates(Vec3{-1, -1, -1} * (1e-6 / sim.time_scale().t0));
+    for (std::int64_t k = 0; k < 300000 && first[sleep] < 0; ++k) {
+      ASSERT_TRUE(sim.step(true)) << sim.failure();
+      if (sim.measures().contacts > 0) first[sleep] = k;
+    }
+    if (sleep) {
+      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
+    }
+  }
+  std::printf("[ sleep ] compressing cell: first contact at step %lld awake, %lld asleep\n",
+              static_cast<long long>(first[0]), static_cast<long long>(first[1]));
+  ASSERT_GT(first[0], 10);
+  EXPECT_EQ(first[0], first[1]);
+}

@@ -46,6 +46,8 @@ struct IntegrationSums {
   double kinetic_rotational = 0;    ///< 1/2 I |w_mid|^2 [J] (measure steps only)
   double sum_inertia_moment = 0;    ///< sum |I dw/dt| [N m] (measure steps only)
   double max_displacement2 = 0;     ///< max |H (s - s_build)|^2 [m^2]
+  double max_speed2 = 0;            ///< max |v(t+dt/2)|^2, fluctuating velocity [m^2/s^2]
+  double max_spin2 = 0;             ///< max |w(t+dt/2)|^2 [rad^2/s^2]
   bool finite = true;
   void add(const IntegrationSums& o);
 };

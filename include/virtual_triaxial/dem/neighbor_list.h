@@ -50,6 +50,10 @@ struct alignas(64) PairState {
 struct SpheroidPairState {
   SpheroidContactCache cache;  ///< warm start of the contact solver
   Vec3 torque_i;               ///< moment on i (the owner) about its centre [N m]
+  /// The pair was found apart with gap g < 0 along some fixed normal when the
+  /// motion clock (ContactForces::set_motion_clock) read C0; it stays apart
+  /// while the clock reads below wake = C0 - g/2 (0: awake) [m].
+  double wake = 0.0;
 };
 
 /// Read-only view of one field of PairData::state, indexed by list entry

@@ -98,6 +98,10 @@ class Simulation {
 
   SimulationState state() const;
 
+  /// Spheroid samples: let pairs found apart sleep (ContactForces::
+  /// set_motion_clock; on by default). Results are bit-identical either way.
+  void set_sleep_apart_pairs(bool on) { sleep_apart_ = on; }
+
  private:
   void initialize();
   void update_damping();
@@ -119,6 +123,10 @@ class Simulation {
   double time_ = 0;
   std::int64_t steps_ = 0;
   double last_max_disp2_ = 0;
+  bool sleep_apart_ = true;
+  double motion_clock_ = 0;      ///< [m], see ContactForces::set_motion_clock
+  double max_bounding_ = 0;      ///< max a [m]
+  double max_elongation_ = 0;    ///< max (a - b) [m]
   Mat3 last_virial_;
   double last_force_volume_ = 0;
   // Data of the last measured step.

@@ -123,6 +123,7 @@ struct SpheroidContactStats {
   std::uint64_t iterations = 0;        ///< Newton steps, primary + fallback
   std::uint64_t fallbacks = 0;         ///< solves that needed the fallback
   std::uint64_t failures = 0;          ///< solves returned with converged = false
+  std::uint64_t asleep = 0;            ///< pairs in reach skipped as certified apart (contact_forces)
   void add(const SpheroidContactStats& o);
 };
 
