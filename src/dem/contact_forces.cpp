@@ -287,6 +287,8 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       } else {
         // The cache follows contacts only: a solve that finds the pair apart
         // leaves it as it was, so an apart pair's evaluation has no effect.
+        // (After an apart spell the warm start may be stale; the plain
+        // Newton then takes more steps or the counted fallback.)
         SpheroidContactCache trial = cache;
         const SpheroidContact sc =
             detect_spheroid_contact(si, sj, d, &trial, &acc.spheroid, {}, cache.valid ? &start : nullptr);
@@ -303,7 +305,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       st = PairState{};
       in.spring[e] = Vec3{};
       sp.torque_i = Vec3{};
-      if (in.sleep && gap > 0.0) sp.wake = in.clock + 0.5 * gap;
+      // Sleep on half the gap, less a floor for the rounding of g (~eps
+      // (a_i + a_j)) and of the clock (~eps C).
+      const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.axes[i].x + in.axes[j].x + in.clock);
+      if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
       continue;
     }
     // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/huge_pages.h"
@@ -36,6 +37,14 @@ void Simulation::initialize() {
     if (!(a.y > 0.0 && a.x >= a.y && a.z == a.y))
       throw std::invalid_argument("particles.semi_axes: entry " + std::to_string(i) +
                                   " must be (a, b, b) with a >= b > 0 (prolate spheroid)");
+  }
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_.shape[i] != Shape::Spheroid) continue;
+    const Quaternion& q = particles_.orientation[i];
+    const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    if (!(std::fabs(n2 - 1.0) <= 1e-6))  // the rotation step renormalises by a Newton step
+      throw std::invalid_argument("particles.orientation: entry " + std::to_string(i) +
+                                  " is not a unit quaternion (|q|^2 = " + std::to_string(n2) + ")");
   }
   const std::string bad = settings_.material.validate();
   if (!bad.empty()) throw std::invalid_argument("material." + bad);
@@ -124,8 +133,20 @@ bool Simulation::step(bool measure) {
         const double d = f.m[a][b] - (a == b ? 1.0 : 0.0);
         dev2 += d * d;
       }
-    motion_clock_ += 2.0 * std::sqrt(is.max_speed2) * dt + 2.0 * max_elongation_ * std::sqrt(is.max_spin2) * dt +
-                     2.0 * max_bounding_ * std::sqrt(dev2);
+    // plus the rounding of both positions (fractional coordinates in [0, 1)
+    // rounded and wrapped each step: < eps |H| each, doubled for safety)
+    const Mat3& h = cell_.h();
+    double h2 = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) h2 += h.m[a][b] * h.m[a][b];
+    const double increment = 2.0 * std::sqrt(is.max_speed2) * dt +
+                             2.0 * max_elongation_ * std::sqrt(is.max_spin2) * dt + 2.0 * max_bounding_ * std::sqrt(dev2) +
+                             4.0 * std::numeric_limits<double>::epsilon() * std::sqrt(h2);
+    // Kahan summation: late small increments are not lost to a large clock.
+    const double y = increment - motion_clock_carry_;
+    const double t = motion_clock_ + y;
+    motion_clock_carry_ = (t - motion_clock_) - y;
+    motion_clock_ = t;
   }
 
   if (energy_.has_reference) {

@@ -616,3 +616,16 @@ TEST(SpheroidSleep, ACompressingCellIsCaughtOnTheStepItBringsAPairIntoTouch) {
   ASSERT_GT(first[0], 10);
   EXPECT_EQ(first[0], first[1]);
 }
+
+TEST(SpheroidParticles, ANonUnitOrientationIsRejectedNamingTheField) {
+  // The rotation step renormalises by one Newton step, which needs |q| ~ 1.
+  PairScene s;
+  add_at(s, 0, 1.2e-3, 1e-3, Quaternion{1.1, 0, 0, 0}, Vec3{0.01, 0.01, 0.01});
+  add_at(s, 1, 1.2e-3, 1e-3, {}, Vec3{0.01, 0.014, 0.01});
+  try {
+    Simulation sim(s.p, s.cell, vt::test::undamped(0.1, 0.0));
+    FAIL() << "a non-unit quaternion was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("particles.orientation: entry 0"), std::string::npos) << e.what();
+  }
+}

@@ -90,10 +90,13 @@ class ContactForces {
   /// 2 max(a) ||F_step - I||_F, as |d(n.d)| <= |dd|, |d| < a_i + a_j and
   /// |dh/dtheta| <= a - b for a turn theta of the symmetry axis). A pair in
   /// reach found apart with g < 0 sleeps (is not evaluated) until C has grown
-  /// by -g/2 or the pair leaves reach: it cannot touch before. Evaluating a
-  /// pair found apart changes nothing (its solver cache follows contacts
-  /// only), so sleeping gives the same results bit for bit as not sleeping
-  /// (sleep = false, the default of a bare ContactForces).
+  /// by (-g - floor)/2 or the pair leaves reach: it cannot touch before
+  /// (floor = 64 eps (a_i + a_j + C) covers the rounding of g and of C; the
+  /// clock also counts 4 eps |H| per step for the rounding of positions and
+  /// is summed with compensation). Evaluating a pair found apart changes
+  /// nothing (its solver cache follows contacts only), so sleeping gives
+  /// the same states bit for bit as not
+  /// sleeping (sleep = false, the default of a bare ContactForces).
   void set_motion_clock(double clock, bool sleep) {
     motion_clock_ = clock;
     sleep_ = sleep;

@@ -99,7 +99,9 @@ class Simulation {
   SimulationState state() const;
 
   /// Spheroid samples: let pairs found apart sleep (ContactForces::
-  /// set_motion_clock; on by default). Results are bit-identical either way.
+  /// set_motion_clock; on by default). Particle states and contact histories
+  /// are bit-identical either way; the solver counters (solves, iterations)
+  /// are not, as sleeping pairs are not solved.
   void set_sleep_apart_pairs(bool on) { sleep_apart_ = on; }
 
  private:
@@ -125,6 +127,7 @@ class Simulation {
   double last_max_disp2_ = 0;
   bool sleep_apart_ = true;
   double motion_clock_ = 0;      ///< [m], see ContactForces::set_motion_clock
+  double motion_clock_carry_ = 0;  ///< compensated (Kahan) summation of the clock
   double max_bounding_ = 0;      ///< max a [m]
   double max_elongation_ = 0;    ///< max (a - b) [m]
   Mat3 last_virial_;
