@@ -232,14 +232,8 @@ bool NeighborList::needs_rebuild(const Particles& p, const PeriodicCell& cell) c
 }
 
 bool NeighborList::stale(double max_disp2, const PeriodicCell& cell) const {
-  const Mat3 f = cell.h() * h_at_build_inv_;
-  double dev2 = 0.0;
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) {
-      const double d = f.m[a][b] - (a == b ? 1.0 : 0.0);
-      dev2 += d * d;
-    }
-  return 2.0 * std::sqrt(max_disp2) + std::sqrt(dev2) * cutoff_max_ > skin_;
+  const double dev = frobenius_distance(cell.h() * h_at_build_inv_, 1.0);  // ||H H_build^-1 - I||_F
+  return 2.0 * std::sqrt(max_disp2) + dev * cutoff_max_ > skin_;
 }
 
 std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {

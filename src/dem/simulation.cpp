@@ -126,22 +126,13 @@ bool Simulation::step(bool measure) {
   if (list_.has_spheroids()) {
     // Motion clock: bound on the growth of any pair's gap along a fixed
     // normal in this step (ContactForces::set_motion_clock).
-    const Mat3 f = cell_.h() * h_inverse_before;
-    double dev2 = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        const double d = f.m[a][b] - (a == b ? 1.0 : 0.0);
-        dev2 += d * d;
-      }
-    // plus the rounding of both positions (fractional coordinates in [0, 1)
-    // rounded and wrapped each step: < eps |H| each, doubled for safety)
-    const Mat3& h = cell_.h();
-    double h2 = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) h2 += h.m[a][b] * h.m[a][b];
+    // ||F_step - I||_F with F_step = H(t+dt) H(t)^-1, plus the rounding of
+    // both positions (fractional coordinates in [0, 1) rounded and wrapped
+    // each step: < eps |H| each, doubled for safety).
+    const double dev = frobenius_distance(cell_.h() * h_inverse_before, 1.0);
     const double increment = 2.0 * std::sqrt(is.max_speed2) * dt +
-                             2.0 * max_elongation_ * std::sqrt(is.max_spin2) * dt + 2.0 * max_bounding_ * std::sqrt(dev2) +
-                             4.0 * std::numeric_limits<double>::epsilon() * std::sqrt(h2);
+                             2.0 * max_elongation_ * std::sqrt(is.max_spin2) * dt + 2.0 * max_bounding_ * dev +
+                             4.0 * std::numeric_limits<double>::epsilon() * frobenius_distance(cell_.h(), 0.0);
     // Kahan summation: late small increments are not lost to a large clock.
     const double y = increment - motion_clock_carry_;
     const double t = motion_clock_ + y;

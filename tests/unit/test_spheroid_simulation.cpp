@@ -560,6 +560,32 @@ TEST(SpheroidSleep, FastGasesGiveTheSameResultsAsleepOrAwake) {
   }
 }
 
+namespace {
+
+/// Steps until the pair scene first has a contact, awake and asleep (-1: none
+/// within max_steps) under isotropic compression at eps' = eps_rate (0: a
+/// fixed cell). Checks that pairs slept.
+std::pair<std::int64_t, std::int64_t> first_contact_awake_and_asleep(const PairScene& s, std::int64_t max_steps,
+                                                                    double eps_rate) {
+  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
+  std::int64_t first[2] = {-1, -1};
+  for (const bool sleep : {false, true}) {
+    Simulation sim(s.p, s.cell, st);
+    sim.set_sleep_apart_pairs(sleep);
+    sim.set_strain_rates(Vec3{-1, -1, -1} * (eps_rate / sim.time_scale().t0));
+    for (std::int64_t k = 0; k < max_steps && first[sleep] < 0; ++k) {
+      EXPECT_TRUE(sim.step(true)) << sim.failure();
+      if (sim.measures().contacts > 0) first[sleep] = k;
+    }
+    if (sleep) {
+      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
+    }
+  }
+  return {first[0], first[1]};
+}
+
+}  // namespace
+
 TEST(SpheroidSleep, ASpinningTipIsCaughtOnTheStepItTouches) {
   // Rotation alone closes the gap: i spins about z (no translation, no
   // straining) and its tip sweeps into j's side. Only the a - b term of the
@@ -570,23 +596,11 @@ TEST(SpheroidSleep, ASpinningTipIsCaughtOnTheStepItTouches) {
   const Vec3 c{0.01, 0.01, 0.01};
   add_at(s, 0, a, b, {}, c, {}, Vec3{0, 0, 300.0});  // axis along x, turning toward y
   add_at(s, 1, a, b, {}, c + Vec3{0, a + b - 2e-5, 0});  // apart by ~0.18 mm while i lies along x
-  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
-  std::int64_t first[2] = {-1, -1};
-  for (const bool sleep : {false, true}) {
-    Simulation sim(s.p, s.cell, st);
-    sim.set_sleep_apart_pairs(sleep);
-    for (std::int64_t k = 0; k < 200000 && first[sleep] < 0; ++k) {
-      ASSERT_TRUE(sim.step(true)) << sim.failure();
-      if (sim.measures().contacts > 0) first[sleep] = k;
-    }
-    if (sleep) {
-      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
-    }
-  }
+  const auto [awake, asleep] = first_contact_awake_and_asleep(s, 200000, 0.0);
   std::printf("[ sleep ] spinning tip: first contact at step %lld awake, %lld asleep\n",
-              static_cast<long long>(first[0]), static_cast<long long>(first[1]));
-  ASSERT_GT(first[0], 10);  // apart at the start, touching later
-  EXPECT_EQ(first[0], first[1]);
+              static_cast<long long>(awake), static_cast<long long>(asleep));
+  ASSERT_GT(awake, 10);  // apart at the start, touching later
+  EXPECT_EQ(awake, asleep);
 }
 
 TEST(SpheroidSleep, ACompressingCellIsCaughtOnTheStepItBringsAPairIntoTouch) {
@@ -597,24 +611,11 @@ TEST(SpheroidSleep, ACompressingCellIsCaughtOnTheStepItBringsAPairIntoTouch) {
   const Vec3 c{0.01, 0.01, 0.01};
   add_at(s, 0, a, b, {}, c);
   add_at(s, 1, a, b, axis_rotation({0, 0, 1}, 0.3), c + Vec3{0, 2.03e-3, 0});  // apart by ~11 um
-  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
-  std::int64_t first[2] = {-1, -1};
-  for (const bool sleep : {false, true}) {
-    Simulation sim(s.p, s.cell, st);
-    sim.set_sleep_apart_pairs(sleep);
-    sim.set_strain_rates(Vec3{-1, -1, -1} * (1e-6 / sim.time_scale().t0));
-    for (std::int64_t k = 0; k < 300000 && first[sleep] < 0; ++k) {
-      ASSERT_TRUE(sim.step(true)) << sim.failure();
-      if (sim.measures().contacts > 0) first[sleep] = k;
-    }
-    if (sleep) {
-      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
-    }
-  }
+  const auto [awake, asleep] = first_contact_awake_and_asleep(s, 300000, 1e-6);
   std::printf("[ sleep ] compressing cell: first contact at step %lld awake, %lld asleep\n",
-              static_cast<long long>(first[0]), static_cast<long long>(first[1]));
-  ASSERT_GT(first[0], 10);
-  EXPECT_EQ(first[0], first[1]);
+              static_cast<long long>(awake), static_cast<long long>(asleep));
+  ASSERT_GT(awake, 10);
+  EXPECT_EQ(awake, asleep);
 }
 
 TEST(SpheroidParticles, ANonUnitOrientationIsRejectedNamingTheField) {

@@ -52,6 +52,17 @@ struct Mat3 {
   Vec3 column(int c) const { return {m[0][c], m[1][c], m[2][c]}; }
 };
 
+/// Frobenius norm of m - s I (s = 0: of m itself).
+inline double frobenius_distance(const Mat3& m, double s) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      const double d = m.m[a][b] - (a == b ? s : 0.0);
+      sum += d * d;
+    }
+  return std::sqrt(sum);
+}
+
 inline Vec3 operator*(const Mat3& a, const Vec3& v) {
   return {a.m[0][0] * v.x + a.m[0][1] * v.y + a.m[0][2] * v.z,
           a.m[1][0] * v.x + a.m[1][1] * v.y + a.m[1][2] * v.z,
