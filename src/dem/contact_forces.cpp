@@ -213,24 +213,27 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const Vec3 d = h * ds;
     const double dist2 = norm2(d);
     const double reach = in.axes[i].x + in.axes[j].x;
-    const bool in_reach = dist2 < reach * reach;
-    // asleep: in reach and certified apart until the motion clock reads `wake`
-    const bool asleep = in.clock < in.sph[e].wake;
+    // Both tests are coin flips for the branch predictor, so they are
+    // combined as integers (&, no short-circuit branch).
+    const std::int32_t in_reach = dist2 < reach * reach ? 1 : 0;
+    // asleep: certified apart until the motion clock reads `wake`
+    const double wake = in.sph[e].wake;
+    const std::int32_t asleep = in.clock < wake ? 1 : 0;
     c_entry[nc] = e;
     c_branch[nc].x = d.x;  // by component: a whole-Vec3 copy went through a
     c_branch[nc].y = d.y;  // stack slot (store-forwarding stall)
     c_branch[nc].z = d.z;
     c_dist2[nc] = dist2;
-    nc += (in_reach && !asleep) ? 1 : 0;
-    slept += (in_reach && asleep) ? 1 : 0;
+    nc += in_reach & (asleep ^ 1);
+    slept += in_reach & asleep;
     // Out of reach: cache.reset() and awake (the sleep bound needs |d| <
-    // a_i + a_j), without a branch (the test is a coin flip).
-    in.sph[e].wake = in_reach ? in.sph[e].wake : 0.0;
+    // a_i + a_j); wake >= 0 is finite, so the product is wake or +0.
+    in.sph[e].wake = wake * static_cast<double>(in_reach);
     SpheroidContactCache& cache = in.sph[e].cache;
-    cache.valid = cache.valid && in_reach;
-    cache.has_previous = cache.has_previous && in_reach;
+    cache.valid = static_cast<bool>(static_cast<std::int32_t>(cache.valid) & in_reach);
+    cache.has_previous = static_cast<bool>(static_cast<std::int32_t>(cache.has_previous) & in_reach);
     s_entry[ns] = e;
-    ns += static_cast<std::int32_t>(in.active[e]) & static_cast<std::int32_t>(!in_reach);
+    ns += static_cast<std::int32_t>(in.active[e]) & (in_reach ^ 1);
     in.active[e] = 0;  // contacts set it again in pass 2
   }
   for (std::int32_t k = 0; k < ns; ++k) {

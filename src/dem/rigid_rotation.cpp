@@ -83,37 +83,4 @@ void advance_rotation_omega(Quaternion& q, Vec3& w, const Vec3& torque, const Ve
   w = angular_velocity_world(q, l, inertia);
 }
 
-SymmetricRotationStep advance_symmetric_rotation(Quaternion& q, Vec3& w, const Vec3& torque,
-                                                 const Vec3& inertia, const SymmetricStepConstants& k) {
-  const double i1 = inertia.x, i2 = inertia.y;
-  const double inv_diff = k.inv_i1 - k.inv_i2;  // 1/I1 - 1/I2 [1/(kg m^2)]
-  const Vec3 e_old = body_x_axis(q);
-  SymmetricRotationStep out;
-  out.l_old = i2 * w + ((i1 - i2) * dot(e_old, w)) * e_old;
-  const Vec3 l = k.decay * out.l_old + k.kick * torque;
-  out.l_new = l;
-  // Exact torque-free drift (as free_symmetric, with e known).
-  const double l2 = norm2(l);
-  if (l2 > 0.0) {
-    const double lmag = std::sqrt(l2);
-    double cp, sp, cs, ss;
-    cos_sin(0.5 * lmag * k.dt_inv_i2, cp, sp);  // precession |L| dt / I2 about L^
-    cos_sin(0.5 * dot(l, e_old) * k.dt * inv_diff, cs, ss);  // spin about the body axis
-    // Q(L^, precession) q Q(x, spin), the spin factor (cs, ss, 0, 0) written out
-    const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
-    const Vec3 u = (sp / lmag) * l;
-    const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
-    // |r| = 1 to rounding: one Newton step for 1/|r| (exact to O((|r|^2 - 1)^2))
-    // instead of a square root and a division.
-    const double f = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-    q = {f * r.w, f * r.x, f * r.y, f * r.z};
-  }
-  const Vec3 e_new = body_x_axis(q);
-  w = k.inv_i2 * l + (inv_diff * dot(e_new, l)) * e_new;
-  const Vec3 l_mid = 0.5 * (out.l_old + l);
-  const double el = dot(e_old, l_mid);
-  out.two_e_rot = k.inv_i2 * norm2(l_mid) + inv_diff * el * el;
-  return out;
-}
-
 }  // namespace vt::dem

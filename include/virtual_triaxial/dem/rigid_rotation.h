@@ -38,8 +38,8 @@
 // state wrapper adds 4 quaternion rotations (~50 ns). A symmetric body in the
 // omega state (every spheroid of the integrator) takes
 // advance_symmetric_rotation instead: the same step written with the
-// symmetry axis e, one square root, one division, the step angles' sin/cos
-// by polynomials (cos_sin), ~60 ns.
+// symmetry axis e, with the step angles' sin/cos by polynomials (cos_sin,
+// cos_sinc_of_square) and no square root or division, ~45 ns.
 //
 // State in omega instead of L: advance_rotation_omega() keeps the world
 // angular velocity at half steps, converting omega <-> L with the orientation
@@ -68,18 +68,43 @@ inline Quaternion normalized(const Quaternion& q) {
   return {s * q.w, s * q.x, s * q.y, s * q.z};
 }
 
+/// Taylor polynomials of cos x and sin(x)/x in x2 = x^2 to x^10 and x^8:
+/// for x2 <= 1/256 (|x| <= 1/16) the truncation error is below 1e-19
+/// relative, i.e. they are exact to rounding.
+constexpr double kSmallAngle2 = 1.0 / 256;
+inline double cos_series(double x2) {  // coefficients (-1)^k / (2k)!
+  return 1.0 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800)))));
+}
+inline double sinc_series_minus_1(double x2) {  // sin(x)/x - 1: coefficients (-1)^k / (2k+1)!
+  return x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880))));
+}
+
 /// c = cos x, s = sin x [x in rad]. For |x| <= 1/16 (the angles of a DEM
-/// step are ~1e-4) Taylor polynomials to x^10 and x^9: the truncation error
-/// is below 1e-19 relative, so the result is exact to rounding and costs no
-/// library call; std::cos and std::sin otherwise.
+/// step are ~1e-4) the Taylor polynomials above, which cost no library call;
+/// std::cos and std::sin otherwise.
 inline void cos_sin(double x, double& c, double& s) {
-  if (std::fabs(x) <= 0.0625) {
-    const double x2 = x * x;  // coefficients (-1)^k / (2k+1)! and (-1)^k / (2k)!
-    s = x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880))));
-    c = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320 + x2 * (-1.0 / 3628800)))));
+  const double x2 = x * x;
+  if (x2 <= kSmallAngle2) {
+    s = x + x * sinc_series_minus_1(x2);
+    c = cos_series(x2);
   } else {
     c = std::cos(x);
     s = std::sin(x);
+  }
+}
+
+/// c = cos x, sc = sin(x)/x from x2 = x^2 >= 0 [rad^2], without the square
+/// root when x2 <= 1/256 (the polynomials above); std::cos, std::sin of
+/// sqrt(x2) otherwise. For a rotation by |v| about v^: the quaternion
+/// (cos, (sin/|v|) v) needs no |v|.
+inline void cos_sinc_of_square(double x2, double& c, double& sc) {
+  if (x2 <= kSmallAngle2) {
+    sc = 1.0 + sinc_series_minus_1(x2);
+    c = cos_series(x2);
+  } else {
+    const double x = std::sqrt(x2);
+    c = std::cos(x);
+    sc = std::sin(x) / x;
   }
 }
 
@@ -159,10 +184,43 @@ struct SymmetricStepConstants {
 ///   L = I2 w + (I1 - I2)(e.w) e,   w = L / I2 + (1/I1 - 1/I2)(e.L) e,
 ///   L(t+dt/2) = decay L(t-dt/2) + kick M(t)   (eq. 2 on L, damping eq. 29),
 ///   q(t+dt)   = Q(L^, |L| dt/I2) q(t) Q(x, (e.L)(1/I1 - 1/I2) dt),
-/// renormalised by one Newton step for 1/|q|. Cost ~170 flops, one square
-/// root and one division, no library call for step angles <= 1/8 rad.
-SymmetricRotationStep advance_symmetric_rotation(Quaternion& q, Vec3& omega_world_half,
-                                                 const Vec3& torque_world, const Vec3& inertia_body,
-                                                 const SymmetricStepConstants& k);
+/// renormalised by one Newton step for 1/|q|. Cost ~170 flops, no square
+/// root, division or library call for step angles <= 1/8 rad. Inline: the
+/// integrator calls it for every spheroid and step.
+inline SymmetricRotationStep advance_symmetric_rotation(Quaternion& q, Vec3& w, const Vec3& torque,
+                                                        const Vec3& inertia, const SymmetricStepConstants& k) {
+  const double i1 = inertia.x, i2 = inertia.y;
+  const double inv_diff = k.inv_i1 - k.inv_i2;  // 1/I1 - 1/I2 [1/(kg m^2)]
+  const Vec3 e_old = body_x_axis(q);
+  SymmetricRotationStep out;
+  out.l_old = i2 * w + ((i1 - i2) * dot(e_old, w)) * e_old;
+  const Vec3 l = k.decay * out.l_old + k.kick * torque;
+  out.l_new = l;
+  // Exact torque-free drift (as free_symmetric, with e known).
+  const double l2 = norm2(l);
+  if (l2 > 0.0) {
+    // precession |L| dt / I2 about L^: half angle x = |L| dt / (2 I2), and
+    // the quaternion's vector part (sin x / |L|) L = (sin(x)/x) (dt / 2 I2) L
+    // needs no |L| (cos_sinc_of_square: no square root, no division)
+    const double half_dt_inv_i2 = 0.5 * k.dt_inv_i2;
+    double cp, sinc, cs, ss;
+    cos_sinc_of_square(l2 * (half_dt_inv_i2 * half_dt_inv_i2), cp, sinc);
+    cos_sin(0.5 * dot(l, e_old) * k.dt * inv_diff, cs, ss);  // spin about the body axis
+    // Q(L^, precession) q Q(x, spin), the spin factor (cs, ss, 0, 0) written out
+    const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
+    const Vec3 u = (sinc * half_dt_inv_i2) * l;
+    const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
+    // |r| = 1 to rounding: one Newton step for 1/|r| (exact to O((|r|^2 - 1)^2))
+    // instead of a square root and a division.
+    const double f = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+    q = {f * r.w, f * r.x, f * r.y, f * r.z};
+  }
+  const Vec3 e_new = body_x_axis(q);
+  w = k.inv_i2 * l + (inv_diff * dot(e_new, l)) * e_new;
+  const Vec3 l_mid = 0.5 * (out.l_old + l);
+  const double el = dot(e_old, l_mid);
+  out.two_e_rot = k.inv_i2 * norm2(l_mid) + inv_diff * el * el;
+  return out;
+}
 
 }  // namespace vt::dem
