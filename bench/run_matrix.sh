@@ -6,6 +6,13 @@
 #   bench/run_matrix.sh [extra triax_bench args...]
 #   REPEATS=3 SIZES="1000 10000 100000" THREADS="1 2" CACHE_DIR=/tmp/vt_bench_cache \
 #     bench/run_matrix.sh --no-sort
+#   SHAPES="sphere spheroid" ASPECT=1.2 SIZES=10000 bench/run_matrix.sh
+#
+# SHAPES (default "sphere") lists the particle shapes to time; "spheroid"
+# adds `--shape spheroid --aspect ASPECT`. The repeats of the shapes are
+# interleaved (sphere, spheroid, sphere, ...), so a drift of the host's
+# speed hits both alike, and each spheroid row gives its cost over the
+# sphere row's in the column x_sphere (issue 5: at most 2.5 at N = 10^4).
 #
 # Timings on a shared machine are only meaningful when nothing else runs: two
 # OpenMP threads on two cores with a third busy process make every barrier
@@ -21,6 +28,8 @@ SIZES="${SIZES:-1000 10000 100000}"
 THREADS="${THREADS:-1 2}"
 CACHE_DIR="${CACHE_DIR:-/tmp/vt_bench_cache}"
 IDLE_WAIT="${IDLE_WAIT:-600}"
+SHAPES="${SHAPES:-sphere}"
+ASPECT="${ASPECT:-1.2}"
 mkdir -p "${CACHE_DIR}"
 
 [[ -x "${BIN}" ]] || { echo "run_matrix: ${BIN} not built (vt_ensure_built all)" >&2; exit 1; }
@@ -52,34 +61,62 @@ wait_idle() {
 
 value() { awk -F': ' -v k="$1" '$1 == k { print $2 }' "$2"; }
 
-printf '%-8s %-3s %-10s %-9s %-9s %-9s %-8s %-9s %-9s %-6s %s\n' \
-  N T us/p-step best_of bytes/p peak_MB pairs/p contacts/p prep_s idle fingerprint
+# args = triax_bench arguments of shape $1, then the script's own.
+set_args() {
+  case "$1" in
+    sphere) args=() ;;
+    spheroid) args=(--shape spheroid --aspect "${ASPECT}") ;;
+    *) echo "run_matrix: unknown shape '$1' in SHAPES (sphere or spheroid)" >&2; exit 2 ;;
+  esac
+}
+for shape in ${SHAPES}; do set_args "${shape}"; done
+
+row() { printf '%-8s %-3s %-9s %-10s %-9s %-9s %-9s %-8s %-9s %-9s %-6s %-9s %s\n' "$@"; }
+row N T shape us/p-step best_of bytes/p peak_MB pairs/p contacts/p prep_s idle x_sphere fingerprint
 for n in ${SIZES}; do
-  # Prepare (or load) the sample once, untimed.
-  "${BIN}" --particles "${n}" --threads 1 --steps 1 --cache "${CACHE_DIR}" "$@" >/dev/null 2>"${CACHE_DIR}/prep_${n}.log" || {
-    echo "run_matrix: preparation of N=${n} failed, see ${CACHE_DIR}/prep_${n}.log" >&2; exit 1; }
-  prep="$("${BIN}" --particles "${n}" --threads 1 --steps 1 --cache "${CACHE_DIR}" "$@" 2>/dev/null |
-          awk -F': ' '$1 == "preparation_seconds" { split($2, a, " "); print a[1] }')"
-  for t in ${THREADS}; do
-    best="" out_best=""
-    idle_seen=""
-    for ((r = 0; r < REPEATS; ++r)); do
-      idle_seen="$(wait_idle)"
-      out="$(mktemp)"
-      "${BIN}" --particles "${n}" --threads "${t}" --cache "${CACHE_DIR}" "$@" >"${out}" 2>/dev/null
-      us="$(value us_per_particle_step "${out}")"
-      if [[ -z "${best}" ]] || awk -v a="${us}" -v b="${best}" 'BEGIN { exit !(a < b) }'; then
-        best="${us}"
-        [[ -n "${out_best}" ]] && rm -f "${out_best}"
-        out_best="${out}"
-      else
-        rm -f "${out}"
-      fi
-    done
-    printf '%-8s %-3s %-10s %-9s %-9s %-9s %-8s %-9s %-9s %-6s %s\n' "${n}" "${t}" "${best}" "${REPEATS}" \
-      "$(value rss_bytes_per_particle "${out_best}")" "$(value peak_rss_mb "${out_best}")" \
-      "$(value neighbour_pairs_per_particle "${out_best}")" "$(value contacts_per_particle "${out_best}")" \
-      "${prep}" "${idle_seen}" "$(value state_fingerprint "${out_best}")"
-    rm -f "${out_best}"
+  declare -A prep=()
+  for shape in ${SHAPES}; do
+    set_args "${shape}"
+    args+=("$@")
+    # Prepare (or load) the sample once, untimed.
+    "${BIN}" --particles "${n}" --threads 1 --steps 1 --cache "${CACHE_DIR}" "${args[@]}" >/dev/null \
+      2>"${CACHE_DIR}/prep_${n}_${shape}.log" || {
+      echo "run_matrix: preparation of N=${n} (${shape}) failed, see ${CACHE_DIR}/prep_${n}_${shape}.log" >&2; exit 1; }
+    prep[${shape}]="$("${BIN}" --particles "${n}" --threads 1 --steps 1 --cache "${CACHE_DIR}" "${args[@]}" 2>/dev/null |
+                      awk -F': ' '$1 == "preparation_seconds" { split($2, a, " "); print a[1] }')"
   done
+  for t in ${THREADS}; do
+    declare -A best=() out_best=() idle_seen=()
+    for ((r = 0; r < REPEATS; ++r)); do
+      for shape in ${SHAPES}; do
+        set_args "${shape}"
+        args+=("$@")
+        idle_seen[${shape}]="$(wait_idle)"
+        out="$(mktemp)"
+        "${BIN}" --particles "${n}" --threads "${t}" --cache "${CACHE_DIR}" "${args[@]}" >"${out}" 2>/dev/null
+        us="$(value us_per_particle_step "${out}")"
+        if [[ -z "${best[${shape}]:-}" ]] || awk -v a="${us}" -v b="${best[${shape}]}" 'BEGIN { exit !(a < b) }'; then
+          best[${shape}]="${us}"
+          [[ -n "${out_best[${shape}]:-}" ]] && rm -f "${out_best[${shape}]}"
+          out_best[${shape}]="${out}"
+        else
+          rm -f "${out}"
+        fi
+      done
+    done
+    for shape in ${SHAPES}; do
+      ratio="-"
+      if [[ "${shape}" != sphere && -n "${best[sphere]:-}" ]]; then
+        ratio="$(awk -v a="${best[${shape}]}" -v b="${best[sphere]}" 'BEGIN { printf "%.2f", a / b }')"
+      fi
+      f="${out_best[${shape}]}"
+      row "${n}" "${t}" "${shape}" "${best[${shape}]}" "${REPEATS}" \
+        "$(value rss_bytes_per_particle "${f}")" "$(value peak_rss_mb "${f}")" \
+        "$(value neighbour_pairs_per_particle "${f}")" "$(value contacts_per_particle "${f}")" \
+        "${prep[${shape}]}" "${idle_seen[${shape}]}" "${ratio}" "$(value state_fingerprint "${f}")"
+      rm -f "${f}"
+    done
+    unset best out_best idle_seen
+  done
+  unset prep
 done
