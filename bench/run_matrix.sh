@@ -69,7 +69,13 @@ set_args() {
     *) echo "run_matrix: unknown shape '$1' in SHAPES (sphere or spheroid)" >&2; exit 2 ;;
   esac
 }
-for shape in ${SHAPES}; do set_args "${shape}"; done
+seen=" "
+for shape in ${SHAPES}; do
+  set_args "${shape}"
+  [[ "${seen}" != *" ${shape} "* ]] || { echo "run_matrix: shape '${shape}' twice in SHAPES" >&2; exit 2; }
+  seen+="${shape} "
+done
+[[ "${REPEATS}" =~ ^[1-9][0-9]*$ ]] || { echo "run_matrix: REPEATS must be a whole number >= 1" >&2; exit 2; }
 
 row() { printf '%-8s %-3s %-9s %-10s %-9s %-9s %-9s %-8s %-9s %-9s %-6s %-9s %s\n' "$@"; }
 row N T shape us/p-step best_of bytes/p peak_MB pairs/p contacts/p prep_s idle x_sphere fingerprint

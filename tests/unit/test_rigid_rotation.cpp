@@ -301,11 +301,26 @@ TEST(RigidRotation, SmallAngleCosSinMatchesTheLibraryToRounding) {
   EXPECT_EQ(s, std::sin(0.7));
 }
 
+TEST(RigidRotation, SmallAnglePolynomialsHaveTheTaylorTruncationError) {
+  // cos_series and sinc_series_minus_1 are the Taylor polynomials of cos x
+  // (to x^10) and sin(x)/x (to x^8). Beyond the switch (|x| up to 1) their
+  // error is the first omitted term, x^12/12! and x^10/11!, plus rounding:
+  // a single wrong coefficient (even the last one, off by 1 %) fails this.
+  const double eps = std::numeric_limits<double>::epsilon();
+  for (int k = 1; k <= 1000; ++k) {
+    const double x = k / 1000.0;
+    const double x2 = x * x;
+    const double x10 = x2 * x2 * x2 * x2 * x2;
+    EXPECT_LE(std::fabs(cos_series(x2) - std::cos(x)), x10 * x2 / 479001600.0 + 4 * eps) << x;
+    EXPECT_LE(std::fabs(1.0 + sinc_series_minus_1(x2) - std::sin(x) / x), x10 / 39916800.0 + 4 * eps) << x;
+  }
+}
+
 TEST(RigidRotation, SincOfSquareMatchesTheLibraryToRounding) {
   // cos_sinc_of_square(x^2) gives cos x and sin(x)/x without a square root
   // for |x| <= 1/16: it must agree with std::cos and std::sin(x)/x (itself
-  // rounded twice) to a few units in the last place, up to the switch and
-  // for the tiny angles of a DEM step, and be exactly 1, 1 at x = 0.
+  // rounded twice) to rounding (measured 0.5 eps), up to the switch and for
+  // the tiny angles of a DEM step, and be exactly 1, 1 at x = 0.
   double worst = 0.0;
   for (int k = 1; k <= 4000; ++k) {
     for (const double scale : {1.0 / 16, 1e-3, 1e-7}) {
@@ -317,7 +332,7 @@ TEST(RigidRotation, SincOfSquareMatchesTheLibraryToRounding) {
       worst = std::max(worst, std::fabs(sc - std::sin(x) / x) / eps);  // sinc is ~1
     }
   }
-  EXPECT_LT(worst, 3.0);  // in units of epsilon
+  EXPECT_LE(worst, 1.0);  // in units of epsilon
   double c, sc;
   cos_sinc_of_square(0.0, c, sc);
   EXPECT_EQ(c, 1.0);
@@ -325,4 +340,7 @@ TEST(RigidRotation, SincOfSquareMatchesTheLibraryToRounding) {
   cos_sinc_of_square(0.49, c, sc);  // beyond the switch: the library values of x = 0.7
   EXPECT_EQ(c, std::cos(0.7));
   EXPECT_EQ(sc, std::sin(0.7) / 0.7);
+  const double above = std::nextafter(1.0 / 256, 1.0);  // just above the switch
+  cos_sinc_of_square(above, c, sc);
+  EXPECT_EQ(c, std::cos(std::sqrt(above)));
 }

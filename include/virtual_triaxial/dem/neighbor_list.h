@@ -52,7 +52,8 @@ struct SpheroidPairState {
   Vec3 torque_i;               ///< moment on i (the owner) about its centre [N m]
   /// The pair was found apart with gap g < 0 along some fixed normal when the
   /// motion clock (ContactForces::set_motion_clock) read C0; it stays apart
-  /// while the clock reads below wake = C0 - g/2 (0: awake) [m].
+  /// while the clock reads below wake = C0 - g/2 (0: awake) [m]. Always
+  /// finite and >= 0 (the pair loop resets it as wake * 0 or 1).
   double wake = 0.0;
 };
 

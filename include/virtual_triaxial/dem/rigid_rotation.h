@@ -162,7 +162,7 @@ struct SymmetricRotationStep {
 };
 
 /// Per-body constants of advance_symmetric_rotation (the integrator keeps
-/// them per particle, so the step itself divides only once).
+/// them per particle, so the step itself needs no division).
 struct SymmetricStepConstants {
   double decay = 0;      ///< (1 - a dt/2)/(1 + a dt/2), eq. 2
   double kick = 0;       ///< dt/(1 + a dt/2) [s], eq. 2 applied to L
