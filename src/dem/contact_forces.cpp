@@ -66,6 +66,10 @@ struct PairInputs {
   Mat3 h, lgrad;
   HertzMindlin law;
   double dt;
+  // One thread: per-particle force and torque summed right in pass 2, in
+  // list order (the gather's order, see ContactForces::compute); else null.
+  Vec3* force_out;
+  Vec3* torque_out;
 };
 
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
@@ -144,9 +148,16 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
     const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
     const Vec3& f = r.force_on_j;
     PairState& st = in.state[e];
+    const Vec3 m = -cross(nrm, f);  // n x F_on_i
     st.force = f;
-    st.moment_axis = -cross(nrm, f);  // n x F_on_i
+    st.moment_axis = m;
     st.half_overlap = hov;
+    if (in.force_out) {  // the gather's arithmetic, in the gather's order
+      in.force_out[i] -= f;
+      in.torque_out[i] = fused_multiply_add(li, m, in.torque_out[i]);
+      in.force_out[j] += f;
+      in.torque_out[j] = fused_multiply_add(lj, m, in.torque_out[j]);
+    }
     in.active[e] = hov != 0.0 ? 1 : 0;
     vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
     vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
@@ -327,6 +338,12 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     st.half_overlap = 0.5 * delta;
     in.active[e] = 1;
     sp.torque_i = cross(f, cpt);  // c x (-F_on_j)
+    if (in.force_out) {  // the gather's arithmetic, in the gather's order
+      in.force_out[i] -= f;
+      in.torque_out[i] += sp.torque_i;
+      in.force_out[j] += f;
+      in.torque_out[j] += st.moment_axis;
+    }
     ++contacts;
     vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
     vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
@@ -364,7 +381,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     bodies_.resize(n);
     hertz_radius_.resize(n);
   }
-  const PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
+  PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                       p.radius.data(),   list.offsets().data(), list.owners().data(),
                       pd.partner.data(), pd.spring.data(),      pd.state.data(),
                       pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
@@ -372,14 +389,21 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                       sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                       p.shape.data(),    pd.spheroid.data(),    cell.h(),
                       cell.velocity_gradient(),                 law,
-                      dt};
+                      dt,                nullptr,               nullptr};
   ContactSums* sums = chunk_sums_.data();
+  force.resize(n);
+  torque.resize(n);
+  const bool scatter = omp_get_max_threads() == 1;
+  if (scatter) {
+    std::fill(force.begin(), force.end(), Vec3{});
+    std::fill(torque.begin(), torque.end(), Vec3{});
+    in.force_out = force.data();
+    in.torque_out = torque.data();
+  }
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   Scratch* scratch = scratch_.data();
 
-  force.resize(n);
-  torque.resize(n);
   const std::int32_t* goff = list.gather_offsets().data();
   const std::int32_t* gcode = list.gather_codes().data();
   const PairState* ps = pd.state.data();
@@ -388,7 +412,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   Vec3* tout = torque.data();
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
-  // One parallel region: pair evaluation, barrier, gather.
+  // One parallel region: pair evaluation, barrier, gather (on one thread the
+  // pair loop sums per particle itself, in the same order: no gather).
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -427,16 +452,20 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     }
     // (implicit barrier: every pair state is final)
 
-    // Gather, per particle, over its gather slots: entries where it is the
-    // partner (force added) then its own entries (force subtracted), i.e.
-    // ascending partner id. No contact test: entries not in contact hold
-    // zero force and moment (see evaluate_pairs), and f + 0, t + l * 0 leave
-    // f and t unchanged bit for bit (a sum that starts at +0 and only adds or
-    // subtracts is never -0), so the loop has no unpredictable branch.
-    if (spheroids) {
-      // Same order; the moment on the partner is in the pair state (one
-      // line for the entries of other particles), the one on the owner in the
-      // spheroid pair state (own entries: consecutive in the list).
+    // Gather, per particle, over its gather slots in list order: entries of
+    // owners stored before it (force added), its own entries (force
+    // subtracted), entries of owners stored after it (force added). No
+    // contact test: entries not in contact hold zero force and moment (see
+    // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
+    // bit (a sum that starts at +0 and only adds or subtracts is never -0),
+    // so the loop has no unpredictable branch, and the sums equal those of
+    // the one-thread pair loop, which adds the contacts only.
+    if (scatter) {
+      // done in the pair loop
+    } else if (spheroids) {
+      // The moment on the partner is in the pair state (one line for the
+      // entries of other particles), the one on the owner in the spheroid
+      // pair state (own entries: consecutive in the list).
       const SpheroidPairState* sps = pd.spheroid.data();
 #pragma omp for schedule(static, kChunkSize)
       for (std::int32_t i = 0; i < ni; ++i) {
@@ -445,15 +474,20 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         Vec3 f{}, t{};
         std::int32_t g = goff[i];
         const std::int32_t g_end = goff[i + 1];
-        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
+        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
           const std::int32_t e = gcode[g] >> 2;
           f += ps[e].force;
           t += ps[e].moment_axis;  // moment on j
         }
-        for (; g < g_end; ++g) {  // own entries, partners of higher id
+        for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
           const std::int32_t e = gcode[g] >> 2;
           f -= ps[e].force;
           t += sps[e].torque_i;
+        }
+        for (; g < g_end; ++g) {  // owners stored after i
+          const std::int32_t e = gcode[g] >> 2;
+          f += ps[e].force;
+          t += ps[e].moment_axis;
         }
         fout[i] = f;
         tout[i] = t;
@@ -467,15 +501,20 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const double ri = rad[i];
         std::int32_t g = goff[i];
         const std::int32_t g_end = goff[i + 1];
-        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // partners of lower id
+        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
           const PairState& s = ps[gcode[g] >> 2];
           f += s.force;
-          t += (ri - s.half_overlap) * s.moment_axis;
+          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
         }
-        for (; g < g_end; ++g) {  // own entries, partners of higher id
+        for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
           const PairState& s = ps[gcode[g] >> 2];
           f -= s.force;
-          t += (ri - s.half_overlap) * s.moment_axis;
+          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
+        }
+        for (; g < g_end; ++g) {  // owners stored after i
+          const PairState& s = ps[gcode[g] >> 2];
+          f += s.force;
+          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
         }
         fout[i] = f;
         tout[i] = t;

@@ -167,51 +167,37 @@ void NeighborList::build_reverse(const Particles& p) {
   const std::size_t npairs = pairs_.size();
   if (npairs >= (std::size_t{1} << 29))
     throw std::runtime_error("neighbour list: more than 2^29 pairs are not supported");
-  // Storage indices in ascending id order, cached: the particle order of a
-  // Simulation never changes, so this is sorted once and then only checked.
-  bool valid = by_id_.size() == n;
-  for (std::size_t k = 1; valid && k < n; ++k)
-    valid = p.id[static_cast<std::size_t>(by_id_[k - 1])] < p.id[static_cast<std::size_t>(by_id_[k])];
-  if (!valid) {
-    by_id_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) by_id_[i] = static_cast<std::int32_t>(i);
-    std::sort(by_id_.begin(), by_id_.end(), [&](std::int32_t a, std::int32_t b) {
-      return p.id[static_cast<std::size_t>(a)] < p.id[static_cast<std::size_t>(b)];
-    });
-  }
   reserve_huge(owners_, npairs + npairs / 8);
   owners_.resize(npairs);
   for (std::size_t i = 0; i < n; ++i)
     std::fill(owners_.begin() + offsets_[i], owners_.begin() + offsets_[i + 1], static_cast<std::int32_t>(i));
 
-  // Reverse index: for each particle, the entries where it is the partner.
-  // Owners visited in ascending id: each particle's reverse entries come out
-  // sorted by the owner's id (the canonical order) without a sort.
+  // Reverse index: for each particle, the entries where it is the partner,
+  // in ascending entry index (owners visited in storage order).
   std::vector<std::int32_t> rev_offsets(n + 1, 0), rev_entries(npairs);
   for (std::int32_t j : pairs_.partner) ++rev_offsets[static_cast<std::size_t>(j) + 1];
   for (std::size_t i = 0; i < n; ++i) rev_offsets[i + 1] += rev_offsets[i];
   {
     std::vector<std::int32_t> fill(rev_offsets.begin(), rev_offsets.end() - 1);
-    for (std::int32_t i : by_id_)
-      for (std::int32_t e = offsets_[static_cast<std::size_t>(i)]; e < offsets_[static_cast<std::size_t>(i) + 1]; ++e)
-        rev_entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(pairs_.partner[e])]++)] = e;
+    for (std::int32_t e = 0; e < static_cast<std::int32_t>(npairs); ++e)
+      rev_entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(pairs_.partner[e])]++)] = e;
   }
 
-  // Gather slots: per particle its reverse entries (partners of lower id,
-  // force added) then its own entries (higher id, force subtracted), i.e.
-  // ascending partner id; the last slot of each particle is flagged.
+  // Gather slots: per particle every entry it is part of, in ascending entry
+  // index (list order): reverse entries of owners stored before it (force
+  // added), its own entries (force subtracted), reverse entries of owners
+  // stored after it (force added); the last slot of each particle is flagged.
   gather_offsets_.resize(n + 1);
   reserve_huge(gather_code_, 2 * npairs + npairs / 4);
   gather_code_.resize(2 * npairs);
   std::size_t g = 0;
   for (std::size_t i = 0; i < n; ++i) {
     gather_offsets_[i] = static_cast<std::int32_t>(g);
-    for (std::int32_t k = rev_offsets[i]; k < rev_offsets[i + 1]; ++k, ++g) {
+    std::int32_t k = rev_offsets[i];
+    for (; k < rev_offsets[i + 1] && rev_entries[static_cast<std::size_t>(k)] < offsets_[i]; ++k, ++g)
       gather_code_[g] = rev_entries[static_cast<std::size_t>(k)] * 4;
-    }
-    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e, ++g) {
-      gather_code_[g] = e * 4 + 2;
-    }
+    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e, ++g) gather_code_[g] = e * 4 + 2;
+    for (; k < rev_offsets[i + 1]; ++k, ++g) gather_code_[g] = rev_entries[static_cast<std::size_t>(k)] * 4;
     if (g > static_cast<std::size_t>(gather_offsets_[i])) gather_code_[g - 1] |= 1;
   }
   gather_offsets_[n] = static_cast<std::int32_t>(g);

@@ -8,9 +8,14 @@
 //     v_c = v_j - v_i + L d - (l_i w_i + l_j w_j) x n,  l = R - delta/2,
 //   (v are fluctuating velocities, L d the affine part of the relative motion);
 //   its tangential part times dt drives the Hertz-Mindlin spring (eq. 113).
-// Per-pair results are stored in the list; per-particle resultant force and
-// moment (about the centroid) are then gathered in ascending partner-id order,
-// so the sums do not depend on list layout or thread count.
+// Per-pair results are stored in the list. The per-particle resultant force
+// and moment (about the centroid) add each particle's contacts in list order
+// (NeighborList): on several threads a gather after the pair loop reads the
+// stored results; on one thread the pair loop, which visits the pairs in
+// list order, adds them to both particles as it goes (same terms, same
+// order, same bits; the torque terms use fused_multiply_add so that
+// compiler contraction cannot differ between the two). The sums therefore
+// do not depend on list layout or thread count.
 // Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
 //
 // Spheroids (chapter 4; used only when NeighborList::has_spheroids(), so a
@@ -33,9 +38,13 @@
 // then only the contacts are evaluated; entries out of contact keep zero
 // force and moment so that the gather adds every entry without a test; the
 // per-pair results sit in one cache line per entry (PairState); partner data
-// and pair states are prefetched in software. The order of every sum is the
-// one of the plain loops (list order for the chunk sums, ascending partner
-// id per particle), so the results do not depend on these choices.
+// and pair states are prefetched in software. On one thread there is no
+// gather: its scattered reads of other particles' pair states were what grew
+// most with N once the list outgrew the L2 cache, while the pair loop's
+// additions to the partner's force land mostly in cache (storage follows
+// space, spatial_sort.h). The order of every sum is the one of the plain
+// loops (list order for the chunk sums and per particle), so the results do
+// not depend on these choices.
 // Spheroid path: the support data of every particle (b^2, a^2 - b^2 and the
 // symmetry axis e = q (1,0,0), SpheroidSupport) and its Hertz radius
 // (eq. 104) are computed once per evaluation, not once per pair; the

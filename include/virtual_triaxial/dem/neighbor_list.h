@@ -6,11 +6,14 @@
 // orientation is therefore fixed by the stable ids (i = lower id), and so is
 // the per-pair data kept with each entry: the tangential spring (contact
 // history), keyed by the id pair and carried over on every rebuild.
-// Gather slots list, for each particle, first the entries where it is the
-// partner (sorted by the other particle's id), then its own entries, so
-// that forces are summed per particle in a canonical order (ascending
-// partner id) whatever the list layout: results do not depend on when the
-// list was rebuilt or on the number of threads.
+// Entries are in list order: by owner storage index, then ascending partner
+// id. For a pair that is listed, its place in that order depends only on the
+// pair (the storage order never changes during a run), not on which other
+// pairs the list holds. Forces are summed per particle in list order over
+// the entries it is part of (gather slots below; on one thread the pair loop
+// adds them in the same order, ContactForces); entries out of contact add
+// exact zeros, so results do not depend on when the list was rebuilt or on
+// the number of threads.
 //
 // Spheroids: the pair test uses the bounding radius (semi_axes.x = major
 // semi-axis a; = R for spheres). When the particles include spheroids
@@ -149,9 +152,10 @@ class NeighborList {
 
   const std::vector<std::int32_t>& offsets() const { return offsets_; }
   /// Gather slots in CSR form (gather_offsets, size N+1): for particle i,
-  /// first the entries where i is the partner (sorted by the owner's id),
-  /// then i's own entries, i.e. ascending partner id. Slot code =
-  /// 4 entry + 2 (own entry: force on i is -force) + 1 (last slot of i).
+  /// every entry it is part of in ascending entry index, i.e. the entries
+  /// of owners stored before i, then i's own entries, then the entries of
+  /// owners stored after i. Slot code = 4 entry + 2 (own entry: force on i
+  /// is -force) + 1 (last slot of i).
   const std::vector<std::int32_t>& gather_offsets() const { return gather_offsets_; }
   const std::vector<std::int32_t>& gather_codes() const { return gather_code_; }
   /// Owner (storage index of i, the lower id) of every entry.
@@ -180,7 +184,6 @@ class NeighborList {
   PairData pairs_;
   std::vector<std::int32_t> gather_offsets_, gather_code_;
   std::vector<std::int32_t> owners_;
-  std::vector<std::int32_t> by_id_;  ///< storage indices in ascending id order
   std::vector<Vec3> frac_at_build_;
   Mat3 h_at_build_inv_;
   // bins

@@ -11,11 +11,11 @@
 // follows the Z (Morton) order of a bin grid in the cell's fractional
 // coordinates, bins about one largest diameter wide; within a bin the
 // previous order is kept (stable). Ids travel with their particles, so
-// contact history (keyed by ids), the canonical force-summation order
-// (ascending partner id) and hence thread-count independence are unaffected.
-// It does change which particles share a 512-particle reduction chunk, so a
-// sorted and an unsorted copy of one scene agree only to round-off in the
-// summed quantities (stress, energies): sort once, when a scene is built,
+// contact history (keyed by ids) and thread-count independence are
+// unaffected. It does change the list order, which is the order of the
+// per-particle force sums, and which particles share a 512-particle
+// reduction chunk, so a sorted and an unsorted copy of one scene agree only
+// to round-off (forces, stress, energies): sort once, when a scene is built,
 // before constructing the Simulation -- never in the middle of a run.
 // Deterministic; O(N log N).
 #pragma once

@@ -30,6 +30,11 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double norm2(const Vec3& a) { return dot(a, a); }
+/// s a + b with one rounding per component (std::fma): the same bits
+/// whatever the compiler's contraction choices in the surrounding code.
+inline Vec3 fused_multiply_add(double s, const Vec3& a, const Vec3& b) {
+  return {std::fma(s, a.x, b.x), std::fma(s, a.y, b.y), std::fma(s, a.z, b.z)};
+}
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 /// Row-major 3x3 matrix, m[r][c].
