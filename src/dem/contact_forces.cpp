@@ -499,21 +499,12 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
         Vec3 f{}, t{};
         const double ri = rad[i];
-        std::int32_t g = goff[i];
-        const std::int32_t g_end = goff[i + 1];
-        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
-          const PairState& s = ps[gcode[g] >> 2];
-          f += s.force;
-          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
-        }
-        for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
-          const PairState& s = ps[gcode[g] >> 2];
-          f -= s.force;
-          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
-        }
-        for (; g < g_end; ++g) {  // owners stored after i
-          const PairState& s = ps[gcode[g] >> 2];
-          f += s.force;
+        for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
+          const std::int32_t code = gcode[g];
+          const PairState& s = ps[code >> 2];
+          // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
+          const double sign = 1.0 - static_cast<double>(code & 2);
+          f = fused_multiply_add(sign, s.force, f);
           t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
         }
         fout[i] = f;
