@@ -3,7 +3,7 @@
 //
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
-//               [--no-sleep]
+//               [--no-sleep] [--sums auto|pair-loop|gather]
 //
 // --shape spheroid: prolate spheroids of aspect ratio K (default 1.2) whose
 // nominal (equal-volume) radii are the sphere radii below (CloudRequest::
@@ -40,6 +40,9 @@
 // unchanged, so the fingerprint must not change; only pairs and rebuilds do).
 // --no-sleep: spheroid pairs found apart are tested every step
 // (Simulation::set_sleep_apart_pairs(false); same fingerprint, for A/B).
+// --sums: on one thread, where per-particle forces are summed (Simulation::
+// set_pair_loop_sum_threshold: auto = by the L2 size, pair-loop, gather;
+// same fingerprint, for A/B); the output says which one ran (sums_in).
 //
 // Output (stdout), "key: value" lines, us_per_particle_step last:
 //   rss_bytes_per_particle = VmRSS after timing / N. It is the whole process:
@@ -104,7 +107,8 @@ int usage(const char* msg) {
                "  X > 0: Verlet skin / L0 during timing (default: SimulationSettings),\n"
                "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
                "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
-               "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n";
+               "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n"
+               "  --sums auto|pair-loop|gather: one thread, where forces are summed (A/B)\n";
   return 2;
 }
 
@@ -330,6 +334,7 @@ int main(int argc, char** argv) {
   std::string cache_dir;
   bool spheroids = false;
   bool sleep = true;
+  std::string sums = "auto";
   double aspect = 1.2;
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
@@ -370,6 +375,11 @@ int main(int argc, char** argv) {
       sort = false;
     } else if (k == "--no-sleep") {
       sleep = false;
+    } else if (k == "--sums") {
+      if (!v || (std::string(v) != "auto" && std::string(v) != "pair-loop" && std::string(v) != "gather"))
+        return usage("--sums needs auto, pair-loop or gather");
+      sums = v;
+      ++a;
     } else if (k == "-h" || k == "--help") {
       return usage(nullptr);
     } else {
@@ -440,6 +450,8 @@ int main(int argc, char** argv) {
     sim = std::make_unique<Simulation>(st);
   }
   sim->set_sleep_apart_pairs(sleep);
+  if (sums == "pair-loop") sim->set_pair_loop_sum_threshold(0);
+  if (sums == "gather") sim->set_pair_loop_sum_threshold(SIZE_MAX);
   const double shear = kShearRate / sim->time_scale().t0;
   sim->set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
   for (int k = 0; k < 50; ++k)
@@ -473,6 +485,7 @@ int main(int argc, char** argv) {
   std::printf("neighbour_pairs_per_particle: %.3f\n",
               static_cast<double>(sim->neighbor_list().pairs().size()) / np);
   std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
+  std::printf("sums_in: %s\n", sim->summed_in_pair_loop() ? "pair loop" : "gather");
   std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));
   std::printf("mean_stress_pa: %.1f\n", m.p);
   if (spheroids) {

@@ -1,6 +1,7 @@
 #include "virtual_triaxial/dem/contact_forces.h"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,11 @@ void ContactSums::add(const ContactSums& o) {
   sum_force += o.sum_force;
   sum_force2 += o.sum_force2;
   spheroid.add(o.spheroid);
+}
+
+std::size_t ContactForces::default_pair_loop_sum_threshold() {
+  const long l2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
+  return l2 > 0 ? static_cast<std::size_t>(l2) : std::size_t{512} << 10;
 }
 
 void ContactForces::Scratch::reserve(std::size_t n) {
@@ -393,7 +399,10 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   ContactSums* sums = chunk_sums_.data();
   force.resize(n);
   torque.resize(n);
-  const bool scatter = omp_get_max_threads() == 1;
+  const std::size_t state_bytes =
+      pd.size() * (sizeof(PairState) + (spheroids ? sizeof(SpheroidPairState) : std::size_t{0}));
+  const bool scatter = omp_get_max_threads() == 1 && state_bytes > pair_loop_bytes_;
+  pair_loop_sums_ = scatter;
   if (scatter) {
     std::fill(force.begin(), force.end(), Vec3{});
     std::fill(torque.begin(), torque.end(), Vec3{});

@@ -4,6 +4,7 @@
 
 #include <omp.h>
 
+#include <cstdint>
 #include <cstring>
 
 #include <filesystem>
@@ -99,18 +100,25 @@ TEST(Restart, ResultIsIndependentOfThreadCount) {
   expect_same_state(one.state(), two.state());
 }
 
-// One thread sums each particle's forces inside the pair loop; more threads
-// evaluate 512-particle chunks in parallel and gather afterwards. Both add
-// the same terms in the same (list) order, so over a sample of several
-// chunks, where pairs cross chunk boundaries both ways, the runs agree bit
-// for bit.
+// One thread may sum each particle's forces inside the pair loop; more
+// threads evaluate 512-particle chunks in parallel and gather afterwards.
+// Both add the same terms in the same (list) order, so over a sample of
+// several chunks, where pairs cross chunk boundaries both ways, the runs
+// agree bit for bit.
 TEST(Restart, PairLoopSumsEqualTheGatherAcrossChunks) {
   const SimulationState start = loaded_packing(1600);
   ASSERT_GT(start.particles.size(), 3u * 512u);
   ASSERT_GT(start.contacts.size(), 1200u) << "the test needs a loaded contact network";
   omp_set_num_threads(1);
   Simulation one(start);
+  one.set_pair_loop_sum_threshold(0);  // always the pair loop
   ASSERT_EQ(one.run(400), 400) << one.failure();
+  EXPECT_TRUE(one.summed_in_pair_loop());
+  Simulation one_gather(start);
+  one_gather.set_pair_loop_sum_threshold(SIZE_MAX);  // always the gather
+  ASSERT_EQ(one_gather.run(400), 400) << one_gather.failure();
+  EXPECT_FALSE(one_gather.summed_in_pair_loop());
+  expect_same_state(one.state(), one_gather.state());
   omp_set_num_threads(2);
   Simulation two(start);
   ASSERT_EQ(two.run(400), 400) << two.failure();

@@ -5,6 +5,8 @@
 // symmetries, and energy conservation of an undamped frictionless gas.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+
 #include <omp.h>
 #include <unistd.h>
 
@@ -512,12 +514,20 @@ TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(1);
   Simulation one(start);
+  one.set_pair_loop_sum_threshold(0);  // one thread: sums in the pair loop
   ASSERT_EQ(one.run(300), 300);
+  EXPECT_TRUE(one.summed_in_pair_loop());
+  Simulation one_gather(start);
+  one_gather.set_pair_loop_sum_threshold(SIZE_MAX);  // one thread: gather
+  ASSERT_EQ(one_gather.run(300), 300);
+  EXPECT_FALSE(one_gather.summed_in_pair_loop());
   omp_set_num_threads(3);
   Simulation three(start);
   ASSERT_EQ(three.run(300), 300);
+  EXPECT_FALSE(three.summed_in_pair_loop());
   omp_set_num_threads(before);
   expect_same_state(one.state(), three.state());
+  expect_same_state(one_gather.state(), three.state());
 }
 
 namespace {

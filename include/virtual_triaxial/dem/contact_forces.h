@@ -38,11 +38,11 @@
 // then only the contacts are evaluated; entries out of contact keep zero
 // force and moment so that the gather adds every entry without a test; the
 // per-pair results sit in one cache line per entry (PairState); partner data
-// and pair states are prefetched in software. On one thread there is no
-// gather: its scattered reads of other particles' pair states were what grew
-// most with N once the list outgrew the L2 cache, while the pair loop's
-// additions to the partner's force land mostly in cache (storage follows
-// space, spatial_sort.h). The order of every sum is the one of the plain
+// and pair states are prefetched in software. On one thread, once the pair
+// states outgrow the L2 cache, there is no gather (its scattered reads of
+// other particles' pair states were the step's largest cost growth with N);
+// the pair loop's additions to the partner's force land mostly in cache, as
+// storage follows space (spatial_sort.h); see set_pair_loop_sum_threshold. The order of every sum is the one of the plain
 // loops (list order for the chunk sums and per particle), so the results do
 // not depend on these choices.
 // Spheroid path: the support data of every particle (b^2, a^2 - b^2 and the
@@ -57,6 +57,7 @@
 // the particle's own, consecutive entries).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -111,6 +112,19 @@ class ContactForces {
     sleep_ = sleep;
   }
 
+  /// On one thread, the pair loop itself adds each pair's force and moment
+  /// to both particles (no gather) when the list's pair states take more
+  /// than `bytes`; with fewer, the gather is used, as on several threads.
+  /// The gather re-reads every pair state from wherever it is: cheap while
+  /// they fit the L2 cache, the step's largest cost growth with N once they
+  /// do not. Both give the same bits. Default: the L2 size
+  /// (sysconf(_SC_LEVEL2_CACHE_SIZE), 512 KiB when unknown); 0 always takes
+  /// the pair loop, SIZE_MAX always the gather.
+  void set_pair_loop_sum_threshold(std::size_t bytes) { pair_loop_bytes_ = bytes; }
+  std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
+  /// Whether the last compute() summed in the pair loop.
+  bool summed_in_pair_loop() const { return pair_loop_sums_; }
+
   /// Per-thread scratch kept between calls (the contacts found in a chunk),
   /// grown on demand. Implementation detail.
   struct Scratch {
@@ -126,6 +140,9 @@ class ContactForces {
   std::vector<SpheroidSupport> bodies_;  ///< spheroid path: per particle, rebuilt every call
   double motion_clock_ = 0.0;
   bool sleep_ = false;
+  std::size_t pair_loop_bytes_ = default_pair_loop_sum_threshold();
+  bool pair_loop_sums_ = false;
+  static std::size_t default_pair_loop_sum_threshold();
   std::vector<double> hertz_radius_;     ///< spheroid path: R_i of eq. 104 per particle, every call
 };
 
