@@ -136,6 +136,11 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       const std::int32_t ep = c_entry[c + kPrefetchContacts];
       __builtin_prefetch(in.state + ep, 1);
       __builtin_prefetch(in.spring + ep, 1);
+      if (in.force_out) {  // the partner's sums (scattered reads when N is large)
+        const std::int32_t jp = in.partner[ep];
+        __builtin_prefetch(in.force_out + jp, 1);
+        __builtin_prefetch(in.torque_out + jp, 1);
+      }
     }
     const std::int32_t e = c_entry[c];
     const std::int32_t i = in.owner[e];
@@ -271,6 +276,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       __builtin_prefetch(in.body + in.partner[ep]);
       __builtin_prefetch(in.state + ep, 1);
       __builtin_prefetch(in.sph + ep, 1);
+      if (in.force_out) {
+        __builtin_prefetch(in.force_out + in.partner[ep], 1);
+        __builtin_prefetch(in.torque_out + in.partner[ep], 1);
+      }
     }
     const std::int32_t e = c_entry[c];
     const std::int32_t i = in.owner[e];
