@@ -25,7 +25,10 @@ void ContactSums::add(const ContactSums& o) {
 }
 
 std::size_t ContactForces::default_pair_loop_sum_threshold() {
-  const long l2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
+  long l2 = 0;
+#ifdef _SC_LEVEL2_CACHE_SIZE  // glibc
+  l2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
+#endif
   return l2 > 0 ? static_cast<std::size_t>(l2) : std::size_t{512} << 10;
 }
 
@@ -410,7 +413,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   torque.resize(n);
   const std::size_t state_bytes =
       pd.size() * (sizeof(PairState) + (spheroids ? sizeof(SpheroidPairState) : std::size_t{0}));
-  const bool scatter = omp_get_max_threads() == 1 && state_bytes > pair_loop_bytes_;
+  const bool scatter = omp_get_max_threads() == 1 && state_bytes >= pair_loop_bytes_;
   pair_loop_sums_ = scatter;
   if (scatter) {
     std::fill(force.begin(), force.end(), Vec3{});
@@ -450,8 +453,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       }
       // (implicit barrier)
     }
-#pragma omp for schedule(dynamic, 1)
-    for (std::int32_t c = 0; c < nchunks; ++c) {
+    const auto evaluate_chunk = [&](std::int32_t c) {
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
@@ -467,6 +469,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                                                  mine.branch.data(), mine.dist2.data())
                           : evaluate_pairs<false>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
                                                   mine.branch.data(), mine.dist2.data());
+    };
+    if (scatter) {
+      // One thread, chunks in ascending order: the pair loop visits every
+      // pair in list order, the order of the per-particle sums.
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+    } else {
+#pragma omp for schedule(dynamic, 1)
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
     }
     // (implicit barrier: every pair state is final)
 

@@ -81,6 +81,25 @@ TEST(HertzImpact, NormalForceAndStiffnessFollowEquations107And116) {
               1e-9 * law.normal_stiffness(delta, r_eff));
 }
 
+// Zero overlap (a pair at exactly R_i + R_j by rounding) with a stored
+// spring: K_t = 0 and mu F_n = 0, so the spring is dropped; the dissipation
+// is the limit of mu F_n (|F_t| - mu F_n) / K_t as delta -> 0 (it scales as
+// delta), i.e. 0 -- not 0/0.
+TEST(MindlinTangential, ZeroOverlapDropsTheSpringWithoutNaN) {
+  const HertzMindlin law(vt::test::test_material());
+  Vec3 spring{0.0, 2e-3, -1e-3};
+  const ContactResult r = law.evaluate({1.0, 0.0, 0.0}, 0.0, 0.4e-3, {0.0, 1e-9, 0.0}, spring);
+  EXPECT_EQ(r.friction_dissipation, 0.0);
+  EXPECT_EQ(r.elastic_energy, 0.0);
+  EXPECT_EQ(norm(spring), 0.0);
+  EXPECT_EQ(norm(r.force_on_j), 0.0);
+  // and just above zero the dissipation is finite and small (continuity)
+  Vec3 spring2{0.0, 2e-3, -1e-3};
+  const ContactResult r2 = law.evaluate({1.0, 0.0, 0.0}, 1e-18, 0.4e-3, {0.0, 1e-9, 0.0}, spring2);
+  EXPECT_TRUE(std::isfinite(r2.friction_dissipation));
+  EXPECT_LT(r2.friction_dissipation, 1e-12);
+}
+
 // Constant normal overlap, imposed tangential sliding velocity: the spring
 // follows F_t = K_t u (incremental Mindlin, eq. 113-117) until it reaches
 // mu F_n, then slides at mu F_n.

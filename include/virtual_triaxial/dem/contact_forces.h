@@ -10,12 +10,14 @@
 //   its tangential part times dt drives the Hertz-Mindlin spring (eq. 113).
 // Per-pair results are stored in the list. The per-particle resultant force
 // and moment (about the centroid) add each particle's contacts in list order
-// (NeighborList): on several threads a gather after the pair loop reads the
-// stored results; on one thread the pair loop, which visits the pairs in
-// list order, adds them to both particles as it goes (same terms, same
-// order, same bits; the torque terms use fused_multiply_add so that
-// compiler contraction cannot differ between the two). The sums therefore
-// do not depend on list layout or thread count.
+// (NeighborList): on several threads, and on one while the pair states fit
+// the L2 cache, a gather after the pair loop reads the stored results;
+// otherwise the one-thread pair loop, which visits the pairs in list order,
+// adds them to both particles as it goes (same terms, same order, same
+// bits; the torque terms use fused_multiply_add so that compiler
+// contraction cannot differ between the two). The sums therefore depend on
+// the storage order (fixed during a run) but not on the thread count or on
+// when the list is rebuilt.
 // Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
 //
 // Spheroids (chapter 4; used only when NeighborList::has_spheroids(), so a
@@ -42,9 +44,10 @@
 // states outgrow the L2 cache, there is no gather (its scattered reads of
 // other particles' pair states were the step's largest cost growth with N);
 // the pair loop's additions to the partner's force land mostly in cache, as
-// storage follows space (spatial_sort.h); see set_pair_loop_sum_threshold. The order of every sum is the one of the plain
-// loops (list order for the chunk sums and per particle), so the results do
-// not depend on these choices.
+// storage follows space (spatial_sort.h); see set_pair_loop_sum_threshold.
+// The order of every sum is the one of the plain loops (list order for the
+// chunk sums and per particle), so the results do not depend on these
+// choices.
 // Spheroid path: the support data of every particle (b^2, a^2 - b^2 and the
 // symmetry axis e = q (1,0,0), SpheroidSupport) and its Hertz radius
 // (eq. 104) are computed once per evaluation, not once per pair; the
@@ -113,8 +116,8 @@ class ContactForces {
   }
 
   /// On one thread, the pair loop itself adds each pair's force and moment
-  /// to both particles (no gather) when the list's pair states take more
-  /// than `bytes`; with fewer, the gather is used, as on several threads.
+  /// to both particles (no gather) when the list's pair states take at
+  /// least `bytes`; with fewer, the gather is used, as on several threads.
   /// The gather re-reads every pair state from wherever it is: cheap while
   /// they fit the L2 cache, the step's largest cost growth with N once they
   /// do not. Both give the same bits. Default: the L2 size

@@ -91,7 +91,9 @@ class HertzMindlin {
     if (ft2 > cap * cap) {
       const double mag = std::sqrt(ft2);
       r.sliding = true;
-      r.friction_dissipation = cap * (mag - cap) / kt;
+      // delta = 0 (possible by rounding at first touch): kt = cap = 0 and
+      // the limit of cap (mag - cap) / kt as delta -> 0 is 0 (not 0/0).
+      r.friction_dissipation = kt > 0.0 ? cap * (mag - cap) / kt : 0.0;
       ft *= cap / mag;
     }
     spring = ft;

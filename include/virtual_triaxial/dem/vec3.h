@@ -30,10 +30,17 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double norm2(const Vec3& a) { return dot(a, a); }
-/// s a + b with one rounding per component (std::fma): the same bits
-/// whatever the compiler's contraction choices in the surrounding code.
+/// s a + b, the same bits wherever it is written: with hardware FMA
+/// (FP_FAST_FMA, e.g. -march=native on x86-64) one rounding per component
+/// (std::fma), whatever the compiler's contraction choices in the
+/// surrounding code; without it the compiler cannot contract either, and a
+/// library fma would be slow, so the product is rounded, then the sum.
 inline Vec3 fused_multiply_add(double s, const Vec3& a, const Vec3& b) {
+#ifdef FP_FAST_FMA
   return {std::fma(s, a.x, b.x), std::fma(s, a.y, b.y), std::fma(s, a.z, b.z)};
+#else
+  return {s * a.x + b.x, s * a.y + b.y, s * a.z + b.z};
+#endif
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 

@@ -2,6 +2,7 @@
 
 #include "virtual_triaxial/dem/cloud_generator.h"
 #include "virtual_triaxial/dem/random_stream.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
 
 namespace vt::test {
 
@@ -64,6 +65,25 @@ void randomize_velocities(dem::Particles& p, double speed, double spin, std::uin
     p.velocity[i] = {speed * rng.uniform(-1, 1), speed * rng.uniform(-1, 1), speed * rng.uniform(-1, 1)};
     p.omega[i] = {spin * rng.uniform(-1, 1), spin * rng.uniform(-1, 1), spin * rng.uniform(-1, 1)};
   }
+}
+
+dem::SimulationState spatially_sorted(dem::SimulationState s) {
+  dem::spatial_sort(s.particles, dem::PeriodicCell(s.h, s.h_reference));
+  return s;
+}
+
+bool has_owner_stored_after(const dem::NeighborList& list) {
+  const std::vector<std::int32_t>& goff = list.gather_offsets();
+  const std::vector<std::int32_t>& code = list.gather_codes();
+  for (std::size_t i = 0; i + 1 < goff.size(); ++i) {
+    bool own_seen = false;
+    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
+      const bool own = (code[static_cast<std::size_t>(g)] & 2) != 0;
+      if (!own && own_seen) return true;
+      own_seen = own_seen || own;
+    }
+  }
+  return false;
 }
 
 }  // namespace vt::test

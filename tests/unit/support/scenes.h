@@ -33,4 +33,13 @@ CloudScene spheroid_cloud(std::int64_t n, double aspect, double void_ratio, std:
 /// Give every particle a random velocity of size ~speed and random spin.
 void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed);
 
+/// The state with its particles in spatial (Morton) storage order
+/// (dem::spatial_sort): storage order then differs from id order, so many
+/// particles have list entries of owners stored after them.
+dem::SimulationState spatially_sorted(dem::SimulationState s);
+
+/// True when some particle's gather slots hold an entry of an owner stored
+/// after it (a reverse slot after its own slots).
+bool has_owner_stored_after(const dem::NeighborList& list);
+
 }  // namespace vt::test
