@@ -400,14 +400,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     hertz_radius_.resize(n);
   }
   PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
-                      p.radius.data(),   list.offsets().data(), list.owners().data(),
-                      pd.partner.data(), pd.spring.data(),      pd.state.data(),
-                      pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
-                      hertz_radius_.data(),
-                      sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
-                      p.shape.data(),    pd.spheroid.data(),    cell.h(),
-                      cell.velocity_gradient(),                 law,
-                      dt,                nullptr,               nullptr};
+                    p.radius.data(),   list.offsets().data(), list.owners().data(),
+                    pd.partner.data(), pd.spring.data(),      pd.state.data(),
+                    pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
+                    hertz_radius_.data(),
+                    sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
+                    p.shape.data(),    pd.spheroid.data(),    cell.h(),
+                    cell.velocity_gradient(),                 law,
+                    dt,                nullptr,               nullptr};
   ContactSums* sums = chunk_sums_.data();
   force.resize(n);
   torque.resize(n);
@@ -489,7 +489,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     // so the loop has no unpredictable branch, and the sums equal those of
     // the one-thread pair loop, which adds the contacts only.
     if (scatter) {
-      // done in the pair loop
+      // the pair loop has made the sums
     } else if (spheroids) {
       // The moment on the partner is in the pair state (one line for the
       // entries of other particles), the one on the owner in the spheroid
