@@ -75,7 +75,8 @@ def result_dict(r):
     if r is None:
         return {}
     keys = ["verdict", "message", "stages", "stop_reasons", "e0", "phi_peak", "eps_peak", "phi_end",
-            "mean_moment_index", "quasi_static_threshold", "quasi_static", "runtime", "steps", "ticks",
+            "mean_moment_index", "max_moment_index", "rate_strategy", "strain_rate_dimensionless_min",
+            "strain_rate_dimensionless_max", "quasi_static_threshold", "quasi_static", "runtime", "steps", "ticks",
             "results_file", "summary_file"]
     return {k: (list(getattr(r, k)) if isinstance(getattr(r, k), (list, tuple)) else getattr(r, k)) for k in keys}
 

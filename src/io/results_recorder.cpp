@@ -56,6 +56,10 @@ void ResultsRecorder::finish(const protocol::RunReport& r, const RunContext& ctx
     num["p_end_pa"] = r.shear.p_end;
     num["q_end_pa"] = r.shear.q_end;
     num["mean_moment_index_to_peak"] = r.shear.mean_moment_index_to_peak;
+    num["max_moment_index_to_peak"] = r.shear.max_moment_index_to_peak;
+    txt["rate_strategy"] = r.shear.rate_strategy;
+    num["strain_rate_dimensionless_min"] = r.shear.strain_rate_min;
+    num["strain_rate_dimensionless_max"] = r.shear.strain_rate_max;
     num["quasi_static_threshold"] = r.shear.quasi_static_threshold;
     txt["quasi_static"] = r.shear.quasi_static ? "yes" : "no";
   }

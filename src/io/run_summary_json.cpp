@@ -63,6 +63,10 @@ std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx
       << ",\"phi_end_deg\":" << number(r.shear.phi_end * deg) << ",\"eps_end\":" << number(r.shear.eps_end)
       << ",\"p_end_pa\":" << number(r.shear.p_end) << ",\"q_end_pa\":" << number(r.shear.q_end)
       << ",\"mean_moment_index_to_peak\":" << number(r.shear.mean_moment_index_to_peak)
+      << ",\"max_moment_index_to_peak\":" << number(r.shear.max_moment_index_to_peak)
+      << ",\"rate_strategy\":" << quoted(r.shear.rate_strategy)
+      << ",\"strain_rate_dimensionless_min\":" << number(r.shear.strain_rate_min)
+      << ",\"strain_rate_dimensionless_max\":" << number(r.shear.strain_rate_max)
       << ",\"quasi_static_threshold\":" << number(r.shear.quasi_static_threshold)
       << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false");
   }

@@ -2,20 +2,23 @@
 
 namespace vt::protocol {
 
-void ShearSummaryBuilder::add(const dem::Measures& m) {
+void ShearSummaryBuilder::add(const dem::Measures& m, double weight) {
   if (!s_.has_data) {
     s_.has_data = true;
     s_.e0 = m.void_ratio;
   }
   ++s_.samples;
-  sum_imom_ += m.moment_index;
+  sum_imom_ += weight * m.moment_index;  // weight 1: exactly the plain sum
+  sum_weight_ += weight;
+  if (m.moment_index > max_imom_ || s_.samples == 1) max_imom_ = m.moment_index;
   const double eps = m.strain[axis_];
   if (m.phi > s_.phi_peak || s_.samples == 1) {
     s_.phi_peak = m.phi;
     s_.eps_peak = eps;
     s_.q_peak = m.q;
     sum_imom_at_peak_ = sum_imom_;
-    n_at_peak_ = s_.samples;
+    sum_weight_at_peak_ = sum_weight_;
+    max_imom_at_peak_ = max_imom_;
   }
   s_.phi_end = m.phi;
   s_.eps_end = eps;
@@ -25,7 +28,8 @@ void ShearSummaryBuilder::add(const dem::Measures& m) {
 
 ShearSummary ShearSummaryBuilder::summary() const {
   ShearSummary s = s_;
-  s.mean_moment_index_to_peak = n_at_peak_ > 0 ? sum_imom_at_peak_ / static_cast<double>(n_at_peak_) : 0.0;
+  s.mean_moment_index_to_peak = sum_weight_at_peak_ > 0 ? sum_imom_at_peak_ / sum_weight_at_peak_ : 0.0;
+  s.max_moment_index_to_peak = max_imom_at_peak_;
   s.quasi_static_threshold = i_qs_;
   s.quasi_static = s.has_data && s.mean_moment_index_to_peak < i_qs_;
   return s;

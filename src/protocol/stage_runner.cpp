@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/protocol/stage_judge.h"
 
 namespace vt::protocol {
 
@@ -62,11 +63,12 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   sim_.reset_strain_reference();
   const double t0 = sim_.time_scale().t0, dt = sim_.dt();
   const std::int64_t n = options_.control_interval;
-  const StageBoundary boundary = stage_boundary(st, t0);
-  StageMonitor monitor(st, boundary);
+  StageJudge judge(st, options_, t0);
+  const StageBoundary& boundary = judge.boundary();
   std::unique_ptr<control::ServoStrategy> servo;
   double rates[3];
   for (int i = 0; i < 3; ++i) rates[i] = boundary.open_rate[i];
+  rates[st.axial_axis] = boundary.servo[st.axial_axis] ? 0.0 : judge.first_axial_rate();
   if (boundary.any_servo()) {
     control::ServoParameters p = options_.servo.parameters;
     p.max_strain_rate = options_.servo.max_dimensionless_rate / t0;
@@ -79,49 +81,32 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
       if (boundary.servo[i]) rates[i] = 0.0;
   }
   obs.on_stage_start(st, sim_);
-  ShearSummaryBuilder shear(st.axial_axis, options_.quasi_static_threshold);
-  StageOutcome out;
-  out.name = st.name;
-  out.type = st.type;
   const auto t_start = Clock::now();
   auto t_progress = t_start;
   std::int64_t k = 0, k_progress = 0;
-  const std::int64_t cap = st.stop.steps ? *st.stop.steps : options_.max_steps_per_stage;
-  bool ok = true;
   dem::Measures last{};
-  auto mark_unstable = [&]() {
-    report.verdict = Verdict::Unstable;
-    report.failure = sim_.failure();
-    out.stop_reason = "unstable: " + sim_.failure();
-    return false;
+  auto unstable = [&]() {
+    judge.fail(Verdict::Unstable, sim_.failure(), "unstable: " + sim_.failure());
   };
-  auto record = [&]() {
-    last = sim_.measures();
+  auto record = [&](const TickDecision& d, bool measured) {
+    if (!measured) last = sim_.measures();
     obs.on_sample(st, last);
-    if (is_shear(st.type)) shear.add(last);
+    judge.record(last, d);
     if (options_.keep_last_good) report.last_good = sim_.state();
   };
   while (true) {
-    if (abort_) {
-      ok = false;
-      report.verdict = Verdict::Aborted;
-      report.failure = "aborted during stage '" + st.name + "'";
-      out.stop_reason = "aborted";
-      break;
-    }
     sim_.set_strain_rates(velocity_gradient(rates, dt));
-    const bool sample = is_sample_tick(k + n, n, options_.sample_interval);
+    const bool sample = judge.is_sample_tick(k + n);
     const bool measure_end = sample || servo || n > 1;
     bool stepped = true;
     for (std::int64_t s = 0; s < n && stepped; ++s) stepped = sim_.step(measure_end && s == n - 1);
     if (!stepped) {
-      ok = mark_unstable();
+      unstable();
       k += n;  // partial tick counted as whole: the run ends here anyway
       break;
     }
     k += n;
     ++report.ticks;
-    if (sample) record();
     const dem::Mat3 stress = sim_.current_stress();
     if (servo) {
       control::ServoInput in;
@@ -139,33 +124,25 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     ts.p = stress.trace() / 3.0;
     ts.q = stress(2, 2) - std::min(stress(0, 0), stress(1, 1));
     for (int i = 0; i < 3; ++i) ts.stress[i] = stress(i, i);
-    if (sample) {
+    if (sample) {  // UFR and contacts of the tick's measured last step
+      last = sim_.measures();
       ts.ufr = last.ufr;
       ts.contacts = last.contacts;
     }
-    const std::string why = monitor.check(ts);
-    if (!why.empty()) {
-      if (!sample) {
-        if (!measure_end) {  // one more measured step so that the stage ends on a sample
-          if (!sim_.step(true)) {
-            ok = mark_unstable();
-            break;
-          }
-          ++k;
+    const TickDecision d = judge.decide(ts, abort_ ? "aborted" : nullptr);
+    if (sample) record(d, true);
+    if (d.ends_stage()) {
+      if (!sample && d.kind != TickDecision::Kind::Stop) {
+        if (!measure_end && !sim_.step(true)) {  // one more measured step so that the stage ends on a sample
+          unstable();
+          break;
         }
-        record();
+        if (!measure_end) ++k;
+        record(d, false);
       }
-      out.stop_reason = why;
       break;
     }
-    if (k >= cap) {
-      ok = false;
-      report.verdict = Verdict::StepLimit;
-      report.failure = "stage '" + st.name + "' reached the step limit " + std::to_string(cap) +
-                       " before any stop criterion";
-      out.stop_reason = "step limit";
-      break;
-    }
+    if (!boundary.servo[st.axial_axis]) rates[st.axial_axis] = d.axial_rate;
     if (options_.progress_seconds > 0 && seconds_since(t_progress) >= options_.progress_seconds &&
         last.step > 0) {
       const double rate = static_cast<double>(k - k_progress) / seconds_since(t_progress);
@@ -174,10 +151,8 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
       k_progress = k;
     }
   }
-  out.steps = k;
-  report.steps += k;
-  report.stages.push_back(out);
-  if (is_shear(st.type)) report.shear = shear.summary();
+  const bool go_on = judge.finish(k, report);
+  const StageOutcome& out = report.stages.back();
   if (last.step > 0 || k > 0) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "[%s] done after %lld steps (%.1f s): %s", st.name.c_str(),
@@ -186,7 +161,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   }
   obs.on_stage_end(out);
   sim_.set_strain_rates({});
-  return ok;
+  return go_on;
 }
 
 RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& observer) {

@@ -16,8 +16,7 @@
 #include "virtual_triaxial/SetConfiningPressure.h"
 #include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/SetStrainRate.h"
-#include "virtual_triaxial/protocol/shear_summary.h"
-#include "virtual_triaxial/protocol/stage_monitor.h"
+#include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/ros/measure_messages.h"
 
 namespace vt::ros {
@@ -194,17 +193,13 @@ void ProtocolSession::finish_rig() {
 bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count,
                                 io::ResultsRecorder& recorder, SessionLinks& links, protocol::RunReport& report) {
   const io::SceneConfig& scene = *scene_;
-  const protocol::StageBoundary b = protocol::stage_boundary(st, ctx_.t0);
-  configure_stage(st, b);
+  protocol::RunOptions options = scene.run_options();
+  options.control_interval = publish_every_;  // = control.interval, checked in run()
+  protocol::StageJudge judge(st, options, ctx_.t0);
+  configure_stage(st, judge.boundary());
   const std::uint64_t start = current_tick();
   tick_ = start;
-  protocol::StageMonitor monitor(st, b);
-  protocol::ShearSummaryBuilder shear(st.axial_axis, scene.control.quasi_static_threshold);
-  protocol::StageOutcome out;
-  out.name = st.name;
-  out.type = st.type;
   const std::int64_t n = publish_every_;
-  const std::int64_t cap = st.stop.steps ? *st.stop.steps : protocol::RunOptions{}.max_steps_per_stage;
   ROS_INFO("test_protocol_node: [%s] start: %s (stage %zu of %zu)", st.name.c_str(), protocol::to_string(st.type),
            index + 1, count);
 
@@ -216,29 +211,14 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   status.state = "running";
   links.status(status);
 
-  // The judge: stop criteria, step cap and stop requests of one tick (see
-  // TickJudge); it owns `monitor` while the stage runs.
-  const std::int64_t interval = scene.output.interval;
+  // One tick judged by the stage judge (see TickJudge); it runs in the
+  // node's tick thread and owns the judge's decide() side while the stage runs.
   const std::uint64_t stage_start = start;
-  auto judge = [&, stage_start, n, cap, interval](std::uint64_t t, const TickMessages& m) {
+  auto decide = [&, stage_start, n](std::uint64_t t, const TickMessages& m) {
     const std::int64_t steps = static_cast<std::int64_t>(t - stage_start) * n;
-    TickDecision d;
-    d.sample_tick = protocol::is_sample_tick(steps, n, interval);
-    d.sample = tick_sample(m, st.axial_axis, steps, d.sample_tick);
-    d.why = monitor.check(d.sample);
-    if (!d.why.empty()) d.kind = TickDecision::Kind::Criterion;
-    const char* stop = links.stop_request();
-    if (d.why.empty() && steps >= cap && !stop) {
-      d.kind = TickDecision::Kind::StepLimit;
-      d.why = "step limit";
-    }
-    if (stop) {
-      d.kind = TickDecision::Kind::Stop;
-      d.why = stop;
-    }
-    return d;
+    return judge.decide(tick_sample(m, st.axial_axis, steps, judge.is_sample_tick(steps)), links.stop_request());
   };
-  links.arm(judge, start);
+  links.arm(decide, start);
   struct Disarm {  // the judge refers to this frame's locals
     SessionLinks& l;
     ~Disarm() { l.arm(nullptr, 0); }
@@ -248,23 +228,18 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   auto t_feedback = Clock::now() - std::chrono::seconds(1);
   auto t_progress = Clock::now();
   std::uint64_t tick_progress = start;
-  bool ok = true;
   while (true) {
     const std::uint64_t want = tick_ + 1;
     std::optional<JudgedTick> judged = links.wait_tick(want);
     if (!judged) {
       virtual_triaxial::GetInfo info;
       call("get_info", info);
-      ok = false;
       if (info.response.unstable) {
-        report.verdict = protocol::Verdict::Unstable;
-        report.failure = info.response.failure;
-        out.stop_reason = "unstable: " + info.response.failure;
+        judge.fail(protocol::Verdict::Unstable, info.response.failure, "unstable: " + info.response.failure);
         verdict_word_ = "unstable";
       } else {
-        report.verdict = protocol::Verdict::Aborted;
-        report.failure = "no state for tick " + std::to_string(want) + " from dem_node in time";
-        out.stop_reason = report.failure;
+        const std::string failure = "no state for tick " + std::to_string(want) + " from dem_node in time";
+        judge.fail(protocol::Verdict::Aborted, failure, failure);
         verdict_word_ = links.stop_request() ? links.stop_request() : "failed";
       }
       break;
@@ -276,24 +251,8 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
     const std::int64_t steps = ts.stage_steps;
     const bool sample = judged->decision.sample_tick;
     const std::string why = judged->decision.why;
-    switch (judged->decision.kind) {
-      case TickDecision::Kind::Continue:
-      case TickDecision::Kind::Criterion:
-        break;
-      case TickDecision::Kind::StepLimit:
-        ok = false;
-        report.verdict = protocol::Verdict::StepLimit;
-        report.failure = "stage '" + st.name + "' reached the step limit " + std::to_string(cap) +
-                         " before any stop criterion";
-        verdict_word_ = "step_limit";
-        break;
-      case TickDecision::Kind::Stop:
-        ok = false;
-        report.verdict = why == "preempted" ? protocol::Verdict::Preempted : protocol::Verdict::Aborted;
-        report.failure = why + " during stage '" + st.name + "'";
-        verdict_word_ = why;
-        break;
-    }
+    if (judged->decision.kind == TickDecision::Kind::StepLimit) verdict_word_ = "step_limit";
+    if (judged->decision.kind == TickDecision::Kind::Stop) verdict_word_ = why;
     const bool last = !why.empty();
     if (last) trigger("pause");  // before answering: dem_node halts right after this tick
     if (!judged->answered) links.answer(tick_);
@@ -301,7 +260,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       const dem::Measures measures =
           measures_from_messages(*m.stress, *m.strain, *m.moment, *m.energy, *m.fabric, steps);
       recorder.on_sample(st, measures);
-      if (protocol::is_shear(st.type)) shear.add(measures);
+      judge.record(measures, judged->decision);
     }
     ++report.ticks;
 
@@ -340,13 +299,9 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       t_progress = Clock::now();
       tick_progress = tick_;
     }
-    if (last) {
-      out.stop_reason = why;
-      break;
-    }
+    if (last) break;
   }
-  out.steps = static_cast<std::int64_t>(tick_ - start) * n;
-  report.steps += out.steps;
+  const std::int64_t stage_steps = static_cast<std::int64_t>(tick_ - start) * n;
   if (!checkpoint_dir_.empty()) {  // the rig is paused: the state after the stage, restartable bit for bit
     virtual_triaxial::SaveSample save;
     save.request.path = checkpoint_dir_ + "/after_" + std::to_string(index) + "_" + st.name + ".h5";
@@ -356,14 +311,14 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       ROS_WARN("test_protocol_node: checkpoint: %s", e.what());
     }
   }
-  report.stages.push_back(out);
-  if (protocol::is_shear(st.type)) report.shear = shear.summary();
+  const bool go_on = judge.finish(stage_steps, report);
+  const protocol::StageOutcome& out = report.stages.back();
   ROS_INFO("test_protocol_node: [%s] done after %lld steps: %s", st.name.c_str(), static_cast<long long>(out.steps),
            out.stop_reason.c_str());
-  status.state = ok ? "running" : verdict_word_;
+  status.state = go_on ? "running" : verdict_word_;
   status.message = out.stop_reason;
   links.status(status);
-  return ok;
+  return go_on;
 }
 
 }  // namespace vt::ros

@@ -267,6 +267,10 @@ void TestProtocolNode::execute(GoalHandle gh) {
   result.eps_peak = sh.eps_peak;
   result.phi_end = sh.phi_end;
   result.mean_moment_index = sh.mean_moment_index_to_peak;
+  result.max_moment_index = sh.max_moment_index_to_peak;
+  result.rate_strategy = sh.rate_strategy;
+  result.strain_rate_dimensionless_min = sh.strain_rate_min;
+  result.strain_rate_dimensionless_max = sh.strain_rate_max;
   result.quasi_static_threshold = scene.control.quasi_static_threshold;
   result.quasi_static = sh.quasi_static;
   result.runtime = report.wall_seconds;

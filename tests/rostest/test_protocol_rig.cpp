@@ -261,13 +261,20 @@ void expect_sane_summary(const TestRun& r) {
   EXPECT_EQ(j["particles"].as<int>(), 200);
   EXPECT_EQ(j["stages"].size(), s.stages.size());
   for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "q_peak_pa", "phi_end_deg", "eps_end", "p_end_pa",
-                          "q_end_pa", "mean_moment_index_to_peak", "quasi_static_threshold", "wall_seconds", "t0_s",
-                          "dt_s"}) {
+                          "q_end_pa", "mean_moment_index_to_peak", "max_moment_index_to_peak",
+                          "quasi_static_threshold", "strain_rate_dimensionless_min", "strain_rate_dimensionless_max",
+                          "wall_seconds", "t0_s", "dt_s"}) {
     ASSERT_TRUE(j[key] && j[key].IsScalar()) << "summary.json lacks " << key;
     EXPECT_TRUE(std::isfinite(j[key].as<double>())) << key;
   }
   EXPECT_EQ(j["quasi_static"].as<bool>(), s.quasi_static);
   EXPECT_EQ(s.quasi_static, s.mean_moment_index < s.quasi_static_threshold);
+  // a fixed rate: the range is one value, the mean below the largest sample
+  EXPECT_EQ(s.rate_strategy, "fixed");
+  EXPECT_EQ(j["rate_strategy"].as<std::string>(), "fixed");
+  EXPECT_GT(s.strain_rate_dimensionless_min, 0.0);
+  EXPECT_EQ(s.strain_rate_dimensionless_min, s.strain_rate_dimensionless_max);
+  EXPECT_LE(s.mean_moment_index, s.max_moment_index);
   EXPECT_GT(s.quasi_static_threshold, 0.0);
   EXPECT_GT(s.phi_end, 0.0);
   EXPECT_LE(s.phi_end, s.phi_peak);
@@ -365,7 +372,9 @@ TEST(ProtocolRig, DrainedMiniTestCompletesHoldsTheLateralStressAndMatchesTriaxRu
   ASSERT_NO_THROW(h = YAML::Load(line)) << line;
   ASSERT_NO_THROW(rj = YAML::Load(slurp(r.result.summary_file)));
   EXPECT_EQ(h["verdict"].as<std::string>(), "completed");
-  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "mean_moment_index_to_peak", "phi_end_deg", "q_peak_pa"})
+  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "mean_moment_index_to_peak", "max_moment_index_to_peak",
+                          "phi_end_deg", "q_peak_pa", "rate_strategy", "strain_rate_dimensionless_min",
+                          "strain_rate_dimensionless_max", "quasi_static"})
     EXPECT_EQ(rj[key].Scalar(), h[key].Scalar()) << key << ": rig vs triax_run";
   const double deg = 180.0 / M_PI;
   EXPECT_EQ(fmt9(r.result.e0), h["e0"].Scalar());

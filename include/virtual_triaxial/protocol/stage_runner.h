@@ -16,13 +16,13 @@
 //      ends on a sample, runs a servo or the ticks are longer than one step;
 //   4. servo update (control::ServoStrategy) from the tick-end stress and
 //      axis stiffness, dt = control period = control_interval * dt;
-//   5. stop criteria (stage_monitor.h).
+//   5. the stage judge (stage_judge.h, shared with the rig): abort, stop
+//      criteria, step cap, the axial rate of the next tick, and at the end
+//      the stage outcome, the verdict and the shear summary.
 // The cell's strain reference is reset at the start of every stage, so
-// strains in the samples are measured from the stage start. A stage without
-// a `steps` criterion is capped at RunOptions::max_steps_per_stage and the
-// run ends with the verdict `step_limit`. Numerical failure ends the run with
-// `unstable`; abort() (from another thread or an observer) ends it with
-// `aborted` at the next tick.
+// strains in the samples are measured from the stage start. Numerical
+// failure ends the run with `unstable`; abort() (from another thread or an
+// observer) ends it with `aborted` on the next tick the judge sees.
 #pragma once
 
 #include <atomic>

@@ -1,6 +1,6 @@
 // One test run by test_protocol_node on the rig: the ROS calls that set up
 // each stage on a paused dem_node and the per-tick loop that feeds the
-// ROS-free stop criteria (protocol/stage_monitor.h) and shear summary. See
+// ROS-free stage judge (protocol/stage_judge.h, the same as triax_run's). See
 // test_protocol_node.h for the protocol of pausing and lockstep.
 #pragma once
 
@@ -17,7 +17,7 @@
 #include "virtual_triaxial/io/results_recorder.h"
 #include "virtual_triaxial/io/run_summary_json.h"
 #include "virtual_triaxial/io/scene_config.h"
-#include "virtual_triaxial/protocol/stage_monitor.h"
+#include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/ros/tick_collector.h"
 
@@ -30,14 +30,8 @@ class RigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The decision on one control tick of a stage: go on, or end the stage.
-struct TickDecision {
-  enum class Kind { Continue, Criterion, StepLimit, Stop };
-  Kind kind = Kind::Continue;
-  std::string why;  ///< "" while the stage goes on; the stop reason, "step limit", "aborted" or "preempted"
-  protocol::TickSample sample;  ///< what the stop criteria saw (stage steps, eps_a, p, q, ...)
-  bool sample_tick = false;     ///< a sample tick (recorded; UFR criteria judged)
-};
+/// The decision on one control tick of a stage (the ROS-free stage judge's).
+using TickDecision = protocol::TickDecision;
 
 /// Decides tick k from its complete state. The node calls it exactly once
 /// per tick, in tick order, as soon as the tick's five messages are in,
