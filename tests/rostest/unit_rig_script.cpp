@@ -79,6 +79,10 @@ std::map<std::string, std::size_t> topic_counts(const std::vector<fs::path>& bag
   return n;
 }
 
+/// The script's log, one per test process (a fixed name was overwritten by
+/// another worktree's run of this test on a shared machine).
+fs::path log_path() { return fs::temp_directory_path() / ("vt_rig_script_" + std::to_string(::getpid()) + ".log"); }
+
 class RigScript : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -86,7 +90,7 @@ class RigScript : public ::testing::Test {
     fs::remove_all(out_);
     const std::string cmd = "cd '" VT_SOURCE_DIR "' && OUT='" + out_.string() +
                             "' launch_equiv_scripts/run_triaxial.sh tests/data/protocols/rig_script_mini.yaml > '" +
-                            (fs::temp_directory_path() / "vt_rig_script.log").string() + "' 2>&1";
+                            log_path().string() + "' 2>&1";
     const int status = std::system(cmd.c_str());
     code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     for (const auto& e : fs::directory_iterator(out_))
@@ -111,7 +115,7 @@ std::uint64_t RigScript::ticks_ = 0;
 std::string RigScript::summary_;
 
 TEST_F(RigScript, CompletesAndLeavesOneOutputFolder) {
-  ASSERT_EQ(code_, 0) << "see " << (fs::temp_directory_path() / "vt_rig_script.log");
+  ASSERT_EQ(code_, 0) << "see " << log_path();
   EXPECT_NE(summary_.find("\"verdict\":\"completed\""), std::string::npos) << summary_;
   EXPECT_GT(ticks_, 100u);
   for (const char* f : {"results.h5", "summary.json", "plots/rig_series.csv", "plots/q_eps_a.png",
@@ -152,7 +156,7 @@ TEST_F(RigScript, StateTopicsHaveOneMessagePerTickWithRisingStamps) {
 }
 
 TEST_F(RigScript, NoRigProcessIsLeftBehind) {
-  const std::string log = slurp(fs::temp_directory_path() / "vt_rig_script.log");
+  const std::string log = slurp(log_path());
   std::smatch m;
   ASSERT_TRUE(std::regex_search(log, m, std::regex("master http://127\\.0\\.0\\.1:([0-9]+)"))) << log;
   const std::string port = m[1];
