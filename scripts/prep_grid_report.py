@@ -5,6 +5,8 @@ usage: prep_grid_report.py [--out-dir reports/prep_grid] [--particles 1000]
                            [--psd config/psd/mono_0.48mm.yaml] [--seed 1]
                            [--shape sphere|psd] [--quick] [--program PATH] [--table49 CSV]
                            [--replot] [--retry-failed] [--resume]
+                           [--sweep-dir DIR] [--backend local|slurm] [--jobs J] [--wait]
+                           [--partition P] [--time T] [--mem M] [--max-parallel K] [--collect]
 
 Prepares one sample for every shrinkage friction mu1 in {0, 0.03, 0.1, 0.2,
 0.3, 0.5} and every confining pressure in {39, 390, 3900, 39000} kPa (the
@@ -16,8 +18,14 @@ is used through its nominal (equal-volume) radius; with --shape psd the
 program prepares the PSD's spheroids (aspect 1.2 for mono_0.48mm, the
 dissertation's shape), about 4-6x slower per step.
 
-The runs are sequential, each with OMP_NUM_THREADS=1; the sample files go to
-a temporary folder that is deleted at the end. Writes into --out-dir:
+The preparations run as a triax_sweep sweep (scripts/vt_sweep) in --sweep-dir
+(default build/sweeps/<name of --out-dir>; one folder per run with its
+sample, log and summary), each with OMP_NUM_THREADS=1: on --jobs local
+workers (default 1, so the wall times stay comparable), or with --backend
+slurm as one Slurm job array (--wait follows it; otherwise run the script
+again with --collect once the job has ended). A restart skips the
+preparations already finished; --retry-failed runs the failed ones again.
+Writes into --out-dir:
   grid.csv                    mu1, pressure, e0, Z, idle mass fraction, steps, wall s
   void_ratio_vs_mu1.png       fig. 11 analogue, one curve per pressure; table 49
                               (spheroids, aspect 1.2) dashed if --table49 exists
@@ -30,10 +38,7 @@ import argparse
 import csv
 import json
 import os
-import shutil
-import subprocess
 import sys
-import tempfile
 import time
 
 import matplotlib
@@ -84,7 +89,18 @@ def parse_args():
     ap.add_argument("--retry-failed", action="store_true",
                     help="re-run only the rows of an existing grid.csv that did not converge, then re-plot")
     ap.add_argument("--resume", action="store_true",
-                    help="keep the converged rows of an existing grid.csv in --out-dir and prepare only the rest")
+                    help="(always on) finished preparations in --sweep-dir are kept, only the rest run")
+    ap.add_argument("--sweep-dir", default="",
+                    help="the sweep's folder (default: build/sweeps/<name of --out-dir>)")
+    ap.add_argument("--backend", choices=["local", "slurm"], default="local")
+    ap.add_argument("--jobs", type=int, default=1, help="local workers (default 1)")
+    ap.add_argument("--wait", action="store_true", help="slurm: wait for the job, then write the report")
+    ap.add_argument("--partition", help="slurm partition")
+    ap.add_argument("--time", help="slurm time limit per preparation")
+    ap.add_argument("--mem", help="slurm memory per preparation")
+    ap.add_argument("--max-parallel", type=int, help="slurm: at most K preparations at once")
+    ap.add_argument("--collect", action="store_true",
+                    help="only gather the finished preparations of --sweep-dir into the report (after a slurm job)")
     ap.add_argument("--table49", default=TABLE49,
                     help="transcribed table 49 (default: scripts/data/table49_void_ratio.csv)")
     return ap.parse_args()
@@ -105,41 +121,55 @@ def load_table49(path):
     return table
 
 
-def prepare(args, mu1, p_kpa, tmp):
-    """One triax_prepare run; returns a grid.csv row (NaN values if it failed)."""
-    out = os.path.join(tmp, f"mu{mu1:g}_p{p_kpa:g}kPa.h5")
-    cmd = [args.program, "--psd", args.psd, "--pressure", f"{p_kpa * 1e3:g}", "--mu1", f"{mu1:g}",
-           "--seed", str(args.seed), "--particles", str(args.particles), "--shape", args.shape, "--young-modulus", f"{YOUNG:g}",
-           "--poisson-ratio", f"{POISSON:g}", "--density", f"{DENSITY:g}", "--friction", f"{FINAL_FRICTION:g}",
-           "--out", out]
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    t0 = time.monotonic()
-    proc = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    wall = time.monotonic() - t0
-    with open(out + ".log", "w") as log:
-        log.write(" ".join(cmd) + "\n" + proc.stderr)
-    row = {k: float("nan") for k in FIELDS}
-    row.update(mu1=mu1, pressure_kpa=p_kpa, converged=False, particles=args.particles, wall_seconds=wall,
-               exit_code=proc.returncode, failure="")
-    lines = [ln for ln in proc.stdout.splitlines() if ln.strip()]
-    summary = {}
-    if lines:
-        try:
-            summary = json.loads(lines[-1])
-        except json.JSONDecodeError:
-            summary = {}
-    if proc.returncode == 0 and summary.get("converged"):
-        s = summary["stress_pa"]
-        row.update(converged=True, e0=summary["e0"], coordination_number=summary["coordination_number"],
-                   idle_mass_fraction=summary["idle_mass_fraction"], ufr=summary["ufr"],
-                   stress_xx_kpa=s[0] / 1e3, stress_yy_kpa=s[1] / 1e3, stress_zz_kpa=s[2] / 1e3,
-                   max_overlap_ratio=summary["max_overlap_ratio"], particles=summary["particles"],
-                   steps=summary["steps"], wall_seconds=summary["wall_seconds"])
-    else:
-        tail = "\n".join(proc.stderr.strip().splitlines()[-3:])
-        row["failure"] = summary.get("failure") or (tail.splitlines()[-1] if tail else f"exit {proc.returncode}")
-        print(f"  FAILED (exit {proc.returncode}): {summary.get('failure', '')}\n{tail}", file=sys.stderr)
-    return row
+def sweep_spec(args, mu1s, pressures):
+    """The grid as a triax_sweep spec: triax_prepare with the chapter 4.3.5
+    material, pressure (highest first: the fastest preparations) x mu1."""
+    from vt_sweep import spec_from_dict
+    name = os.path.basename(os.path.normpath(args.out_dir))
+    doc = {
+        "name": name, "output": args.sweep_dir or os.path.join(REPO, "build", "sweeps", name),
+        "prepare": {"psd": args.psd, "particles": args.particles, "seed": args.seed, "shape": args.shape,
+                    "young_modulus": YOUNG, "poisson_ratio": POISSON, "density": DENSITY,
+                    "friction": FINAL_FRICTION},
+        "parameters": {"pressure": [p * 1e3 for p in sorted(pressures, reverse=True)], "mu1": list(mu1s)},
+        "combine": "grid", "threads": 1,
+    }
+    return spec_from_dict(doc, REPO)
+
+
+def grid_rows(out):
+    """grid.csv rows from the sweep folder (runs not finished are left out)."""
+    from vt_sweep.plan import read_plan
+    from vt_sweep.run_one import is_published, read_status
+    plan = read_plan(out)
+    rows = []
+    for run in plan["runs"]:
+        if not is_published(out, run["id"]):
+            continue
+        st = read_status(out, run["id"])
+        row = {k: float("nan") for k in FIELDS}
+        row.update(mu1=float(run["values"]["mu1"]), pressure_kpa=float(run["values"]["pressure"]) / 1e3,
+                   converged=False, particles=args_particles(plan), wall_seconds=st["wall_seconds"],
+                   exit_code=st["exit_code"], failure=st["message"])
+        path = os.path.join(out, "runs", run["id"], "summary.json")
+        summary = {}
+        if os.path.isfile(path):
+            with open(path) as f:
+                summary = json.load(f)
+        if st["status"] == "completed" and summary.get("converged"):
+            s = summary["stress_pa"]
+            row.update(converged=True, e0=summary["e0"], coordination_number=summary["coordination_number"],
+                       idle_mass_fraction=summary["idle_mass_fraction"], ufr=summary["ufr"],
+                       stress_xx_kpa=s[0] / 1e3, stress_yy_kpa=s[1] / 1e3, stress_zz_kpa=s[2] / 1e3,
+                       max_overlap_ratio=summary["max_overlap_ratio"], particles=summary["particles"],
+                       steps=summary["steps"], wall_seconds=summary["wall_seconds"])
+        rows.append(row)
+    return rows
+
+
+def args_particles(plan):
+    argv = plan["runs"][0]["argv"]
+    return float(argv[argv.index("--particles") + 1]) if "--particles" in argv else float("nan")
 
 
 def read_csv(path):
@@ -202,7 +232,7 @@ def plot(rows, pressures, mu1s, key, ylabel, title, path, scale=1.0, table49=Non
 def main():
     args = parse_args()
     args.psd = os.path.abspath(args.psd)
-    if not os.access(args.program, os.X_OK):
+    if not args.replot and not os.access(args.program, os.X_OK):
         sys.exit(f"prep_grid_report: {args.program}: not found or not executable (build the project first)")
     if not os.path.isfile(args.psd):
         sys.exit(f"prep_grid_report: {args.psd}: no such PSD file")
@@ -213,58 +243,29 @@ def main():
     table49 = load_table49(args.table49)
 
     n = len(mu1s) * len(pressures)
-    print(f"prep_grid_report: {n} preparations, {args.particles} particles, psd {args.psd}, seed {args.seed}, "
-          f"E {YOUNG / 1e9:g} GPa, nu {POISSON:g}, rho {DENSITY:g}, OMP_NUM_THREADS=1", flush=True)
-    rows = []
     t_start = time.monotonic()
-    tmp = tempfile.mkdtemp(prefix="prep_grid_")
     if args.replot:
         rows = read_csv(csv_path)
         n = len(rows)
-    elif args.retry_failed:
-        rows = read_csv(csv_path)
-        todo = [i for i, r in enumerate(rows) if not r["converged"]]
-        print(f"prep_grid_report: retrying {len(todo)} failed preparations from {csv_path}", flush=True)
-        for i in todo:
-            r = prepare(args, rows[i]["mu1"], rows[i]["pressure_kpa"], tmp)
-            print(f"  mu1 {r['mu1']:g}, {r['pressure_kpa']:g} kPa: "
-                  + (f"e0 {r['e0']:.4f}, {r['wall_seconds']:.1f} s" if r["converged"] else "failed again"), flush=True)
-            rows[i] = r
-            write_csv(csv_path, rows)
-        n = len(rows)
-    done = set()
-    if args.resume and os.path.isfile(csv_path):
-        rows = [r for r in read_csv(csv_path) if r["converged"]]
-        done = {(round(r["mu1"], 4), round(r["pressure_kpa"])) for r in rows}
-        print(f"prep_grid_report: resuming, {len(rows)} converged preparations kept from {csv_path}", flush=True)
-    try:
-        k = len(rows) if args.resume else 0
-        fresh = 0  # preparations run by this invocation
-        # Highest pressure first: those preparations are the fastest, so a
-        # grid stopped early (and resumed later with --resume) has the most points.
-        for p in ([] if (args.retry_failed or args.replot) else sorted(pressures, reverse=True)):
-            for mu1 in mu1s:
-                if (round(mu1, 4), p) in done:
-                    continue
-                k += 1
-                print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa ...", flush=True)
-                r = prepare(args, mu1, p, tmp)
-                rows.append(r)
-                write_csv(csv_path, rows)  # keep partial results
-                elapsed = time.monotonic() - t_start
-                fresh += 1
-                left = elapsed / fresh * (n - k)
-                if r["converged"]:
-                    print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa: e0 {r['e0']:.4f}, Z {r['coordination_number']:.3f}, "
-                          f"idle {100 * r['idle_mass_fraction']:.1f} %, {int(r['steps'])} steps, "
-                          f"{r['wall_seconds']:.1f} s (elapsed {elapsed / 60:.1f} min, ~{left / 60:.0f} min left)",
-                          flush=True)
-                else:
-                    print(f"[{k}/{n}] mu1 {mu1:g}, {p:g} kPa: not prepared (exit {r['exit_code']}), "
-                          f"log kept in {tmp}", flush=True)
-    finally:
-        if all(r["converged"] for r in rows) and len(rows) == n:
-            shutil.rmtree(tmp, ignore_errors=True)
+    else:
+        sys.path.insert(0, os.path.join(REPO, "scripts"))
+        from vt_sweep import SweepError, run_sweep
+        try:
+            spec = sweep_spec(args, mu1s, pressures)
+            print(f"prep_grid_report: {n} preparations, {args.particles} particles, psd {args.psd}, seed {args.seed}, "
+                  f"E {YOUNG / 1e9:g} GPa, nu {POISSON:g}, rho {DENSITY:g}, OMP_NUM_THREADS=1; sweep {spec.output}",
+                  flush=True)
+            if not args.collect:
+                code = run_sweep(spec, args.backend, jobs=args.jobs, retry_failed=args.retry_failed,
+                                 program_path=args.program, wait=args.wait, partition=args.partition,
+                                 time=args.time, mem=args.mem, max_parallel=args.max_parallel)
+                if args.backend == "slurm" and not args.wait:
+                    print(f"prep_grid_report: submitted; when the job has ended: {' '.join(sys.argv)} --collect")
+                    return code
+        except SweepError as e:
+            sys.exit(f"prep_grid_report: error: {e}")
+        rows = grid_rows(spec.output)
+        write_csv(csv_path, rows)
     total = time.monotonic() - t_start
 
     shape = "spheres" if args.shape == "sphere" else "spheroids 1.2" if "mono_0.48" in args.psd else "PSD shapes"

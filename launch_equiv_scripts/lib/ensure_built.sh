@@ -30,6 +30,8 @@ VT_DEB_PACKAGES=(
   hdf5-tools libbenchmark-dev googletest libnodeletlib-tools
   # process and socket tools the entry scripts and their tests use
   procps iproute2
+  # triax_sweep's Slurm backend: the one-node test cluster (tests/sweep/)
+  slurm-wlm munge python3-yaml
   # toolchain (normally present; a bare CI image may lack it)
   cmake make g++
 )

@@ -96,6 +96,19 @@ TEST(TriaxRunCli, BadInputExitsWithCode2AndNamesTheField) {
   EXPECT_NE(missing.err.find("no_such_scene.yaml"), std::string::npos) << missing.err;
 }
 
+TEST(TriaxRunCli, CheckValidatesWithoutRunning) {
+  // --check: a valid file exits 0 and writes no results; a bad one exits 2
+  // with the same one-line error naming the field.
+  const fs::path out = tmpdir() / "check_only.h5";
+  const CliRun ok = triax_run(write_scene("check_ok.yaml", list_scene("", 0.3)).string() + " --check --out " + out.string());
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_FALSE(fs::exists(out));
+  const CliRun bad = triax_run(write_scene("check_bad.yaml", list_scene("colour: 3", 0.3)).string() + " --check");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("material.colour"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+}
+
 TEST(TriaxRunCli, TimeStepRatioAboveOneRunsWithAWarning) {
   const CliRun r = triax_run(write_scene("ct_high.yaml", list_scene("", 1.2)).string() + " --out " +
                           (tmpdir() / "ct_high.h5").string());
