@@ -4,7 +4,10 @@ or triax_prepare at a time; a progress line; failures recorded, not fatal.
 One driver per output folder (an flock on OUT/.lock, released by the kernel
 when the driver dies, kill -9 included). Workers die with the driver
 (PR_SET_PDEATHSIG), their programs with them, so a killed sweep leaves no
-process behind and no published half run.
+process behind and no published half run. Each worker runs in its own
+session (setsid), like a Slurm task: Linux's autogroup scheduler gives each
+session one share of the CPUs, so J workers get J shares on a busy machine,
+not one share split J ways.
 """
 import fcntl
 import os
@@ -85,8 +88,11 @@ def run_local(spec, jobs=None, retry_failed=False, stream=None, program_path=Non
         while todo or running:
             while todo and len(running) < jobs:
                 run = todo.pop(0)
+                # each worker in its own session, as Slurm starts its tasks: with
+                # the kernel's autogroup scheduling a session is one CPU share
                 p = subprocess.Popen(worker_command(out, run["index"], "local"), env=env,
-                                     stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent)
+                                     stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent,
+                                     start_new_session=True)
                 running[p.pid] = (p, run)
             prog.show(done, len(running), failed)
             pid, _ = os.wait()

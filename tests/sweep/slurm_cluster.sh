@@ -112,6 +112,7 @@ vt_slurm_kill_steps() {
   for pid in $(pgrep -x slurmstepd 2>/dev/null); do
     if ls -l "/proc/${pid}/fd" 2>/dev/null | grep -q -- "${dir}/"; then kill -9 "${pid}" 2>/dev/null || true; fi
   done
+  return 0
 }
 
 vt_slurm_stop() {
@@ -128,8 +129,12 @@ vt_slurm_stop() {
     kill -9 "${pid}" 2>/dev/null || true
     wait "${pid}" 2>/dev/null || true
   done
-  [[ -n "${VT_SLURM_DIR}" ]] && vt_slurm_kill_steps "${VT_SLURM_DIR}"
-  [[ -n "${VT_SLURM_WATCHDOG:-}" ]] && { kill "${VT_SLURM_WATCHDOG}" 2>/dev/null; wait "${VT_SLURM_WATCHDOG}" 2>/dev/null; }
+  if [[ -n "${VT_SLURM_DIR}" ]]; then vt_slurm_kill_steps "${VT_SLURM_DIR}"; fi
+  if [[ -n "${VT_SLURM_WATCHDOG:-}" ]]; then
+    kill "${VT_SLURM_WATCHDOG}" 2>/dev/null || true
+    wait "${VT_SLURM_WATCHDOG}" 2>/dev/null || true
+  fi
   VT_SLURM_PIDS=()
   VT_SLURM_WATCHDOG=""
+  return 0
 }
