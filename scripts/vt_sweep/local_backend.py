@@ -18,7 +18,7 @@ import time
 from .errors import SweepError
 from .plan import prepare
 from .progress import Progress
-from .run_one import _die_with_parent, is_published, read_status
+from .run_one import die_with_parent, is_published, read_status
 from .table import write_tables
 
 SCRIPTS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -91,7 +91,7 @@ def run_local(spec, jobs=None, retry_failed=False, stream=None, program_path=Non
                 # each worker in its own session, as Slurm starts its tasks: with
                 # the kernel's autogroup scheduling a session is one CPU share
                 p = subprocess.Popen(worker_command(out, run["index"], "local"), env=env,
-                                     stdin=subprocess.DEVNULL, preexec_fn=_die_with_parent,
+                                     stdin=subprocess.DEVNULL, preexec_fn=die_with_parent(),
                                      start_new_session=True)
                 running[p.pid] = (p, run)
             prog.show(done, len(running), failed)

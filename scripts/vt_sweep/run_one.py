@@ -29,10 +29,17 @@ from .plan import read_plan
 PR_SET_PDEATHSIG = 1
 
 
-def _die_with_parent():
-    # The program gets SIGKILL when this process dies (kill -9 included), so a
-    # killed run leaves nothing running.
-    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+def die_with_parent():
+    """A preexec_fn: the child gets SIGKILL when this process dies (kill -9
+    included), so a killed run leaves nothing running. A parent that died
+    between fork and prctl is caught by the getppid check."""
+    parent = os.getpid()
+
+    def preexec():
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        if os.getppid() != parent:
+            os.kill(os.getpid(), signal.SIGKILL)
+    return preexec
 
 
 def is_published(out, run_id):
@@ -95,7 +102,7 @@ def run_one(out, index, backend="local"):
     started, t0 = _utc(), time.monotonic()
     with open(os.path.join(work, "stdout.txt"), "w") as so, open(os.path.join(work, "run.log"), "w") as se:
         try:
-            code = subprocess.call(cmd, cwd=work, env=env, stdout=so, stderr=se, preexec_fn=_die_with_parent)
+            code = subprocess.call(cmd, cwd=work, env=env, stdout=so, stderr=se, preexec_fn=die_with_parent())
         except OSError as e:
             se.write(f"{name}: error: cannot start {program}: {e.strerror}\n")
             code = 127

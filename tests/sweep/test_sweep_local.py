@@ -186,14 +186,17 @@ class LocalBackend(unittest.TestCase):
         self.assertGreaterEqual(len(published), 3, "the sweep did not get going")
         victims = [driver.pid] + descendants(driver.pid)
         workers = [p for p in victims[1:] if alive(p)]
-        self.assertGreaterEqual(len(workers), 2, "expected running workers to kill")
+        self.assertGreaterEqual(len(workers), 1, "expected running workers to kill")
         for p in victims:
             try:
                 os.kill(p, signal.SIGKILL)
             except ProcessLookupError:
                 pass
         driver.wait()
-        time.sleep(0.3)
+        for _ in range(100):  # a killed process may take a moment to be reaped on a busy machine
+            if not [p for p in victims if alive(p)]:
+                break
+            time.sleep(0.05)
         self.assertFalse([p for p in victims if alive(p)], "a process of the killed sweep survived")
         done = sorted(d for d in os.listdir(runs) if not d.startswith("."))
         self.assertLess(len(done), 8, "the sweep finished before the kill: nothing tested")
