@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace vt::io::h5 {
 
@@ -28,21 +29,46 @@ int sync_path(const std::string& path, bool directory) {
   return rc;
 }
 
+/// Writes all of `data` to a new file `path` and fsyncs it; "" or the reason.
+std::string write_all(const std::string& path, const std::vector<unsigned char>& data) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return std::strerror(errno);
+  std::size_t done = 0;
+  while (done < data.size()) {
+    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      return std::strerror(err);
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    const int err = errno;
+    ::close(fd);
+    return std::strerror(err);
+  }
+  if (::close(fd) != 0) return std::strerror(errno);
+  return "";
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(const std::string& path)
     : path_(path), temp_(path + ".tmp." + std::to_string(::getpid())) {
   ErrorSilencer quiet;
-  if (path.empty()) throw std::runtime_error("HDF5 output: empty file path");
+  if (path.empty()) throw WriteError("HDF5 output: empty file path");
   if (::access(directory_of(path).c_str(), W_OK) != 0) {
     const int err = errno;
-    throw std::runtime_error(path + ": cannot write: directory '" + directory_of(path) + "': " + std::strerror(err));
+    throw WriteError(path + ": cannot write: directory '" + directory_of(path) + "': " + std::strerror(err));
   }
   // Semi close degree: closing the file fails if an object in it is still
   // open, so a forgotten handle is an error instead of a silently deferred
-  // (and therefore non-atomic) close.
+  // close. Core driver without backing store: the file lives in memory.
   Handle fapl = plist_handle(H5Pcreate(H5P_FILE_ACCESS));
-  if (!fapl || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI) < 0)
+  if (!fapl || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_SEMI) < 0 ||
+      H5Pset_fapl_core(fapl.get(), std::size_t{1} << 20, false) < 0)
     throw std::runtime_error(with_reason(path + ": cannot set up file access properties"));
   // No modification times on the root group either: identical content gives
   // identical bytes.
@@ -50,10 +76,7 @@ AtomicFile::AtomicFile(const std::string& path)
   if (fcpl >= 0) H5Pset_obj_track_times(fcpl, false);
   file_ = file_handle(H5Fcreate(temp_.c_str(), H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, fapl.get()));
   if (fcpl >= 0) H5Pclose(fcpl);
-  if (!file_) {
-    std::remove(temp_.c_str());
-    throw std::runtime_error(with_reason(path + ": cannot create temporary file '" + temp_ + "'"));
-  }
+  if (!file_) throw std::runtime_error(with_reason(path + ": cannot create the file in memory"));
   Handle root = group_handle(H5Gopen2(file_.get(), "/", H5P_DEFAULT));
   if (!root) {
     discard();
@@ -70,7 +93,7 @@ void AtomicFile::discard() noexcept {
   ErrorSilencer quiet;
   root_.close();
   file_.reset();
-  std::remove(temp_.c_str());
+  ::unlink(temp_.c_str());
   H5Eclear2(H5E_DEFAULT);
 }
 
@@ -78,19 +101,31 @@ void AtomicFile::commit() {
   ErrorSilencer quiet;
   if (committed_) return;
   root_.close();
-  if (file_.close() < 0) {
-    const std::string msg = with_reason(path_ + ": cannot close temporary file '" + temp_ + "'");
+  if (H5Fflush(file_.get(), H5F_SCOPE_GLOBAL) < 0) {
+    const std::string msg = with_reason(path_ + ": cannot flush the file in memory");
     discard();
     throw std::runtime_error(msg);
   }
-  if (const int err = sync_path(temp_, false)) {
+  const ssize_t size = H5Fget_file_image(file_.get(), nullptr, 0);
+  std::vector<unsigned char> image(size > 0 ? static_cast<std::size_t>(size) : 0);
+  if (size <= 0 || H5Fget_file_image(file_.get(), image.data(), image.size()) != size) {
+    const std::string msg = with_reason(path_ + ": cannot take the file image");
     discard();
-    throw std::runtime_error(path_ + ": cannot sync temporary file '" + temp_ + "': " + std::strerror(err));
+    throw std::runtime_error(msg);
+  }
+  if (file_.close() < 0) {
+    const std::string msg = with_reason(path_ + ": cannot close the file in memory");
+    discard();
+    throw std::runtime_error(msg);
+  }
+  if (const std::string why = write_all(temp_, image); !why.empty()) {
+    discard();
+    throw WriteError(path_ + ": cannot write (" + temp_ + "): " + why);
   }
   if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
     const int err = errno;
     discard();
-    throw std::runtime_error(path_ + ": cannot rename '" + temp_ + "' into place: " + std::strerror(err));
+    throw WriteError(path_ + ": cannot rename '" + temp_ + "' into place: " + std::strerror(err));
   }
   committed_ = true;
   // Make the rename itself durable; failure here leaves a complete file.

@@ -68,9 +68,24 @@ void BagRecorder::subscribe_typed(const std::string& name) {
 
 template <class M>
 void BagRecorder::on_message(const std::string& topic, const ::ros::MessageEvent<const M>& e) {
-  split_if_full();
-  bag_->write(topic, stamp(), e.getConstMessage(), e.getConnectionHeaderPtr());
-  ++messages_;
+  if (failed_) return;
+  try {
+    split_if_full();
+    bag_->write(topic, stamp(), e.getConstMessage(), e.getConnectionHeaderPtr());
+    ++messages_;
+  } catch (const std::exception& ex) {
+    // A full disk (or any write error) stops the recording, never the rig.
+    failed_ = true;
+    ROS_ERROR("bag_recorder: cannot write %s.active: %s; recording stopped after %llu messages", path_.c_str(),
+              ex.what(), static_cast<unsigned long long>(messages_));
+    try {
+      close_current();
+    } catch (const std::exception& ex2) {
+      ROS_ERROR("bag_recorder: cannot close %s.active: %s (`rosbag reindex` recovers it)", path_.c_str(),
+                ex2.what());
+      bag_.reset();
+    }
+  }
 }
 
 ::ros::Time BagRecorder::stamp() const {

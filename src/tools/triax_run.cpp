@@ -5,12 +5,16 @@
 // Runs a scene headless: prints progress on stderr, writes an HDF5 time
 // series of all measures, prints a JSON summary as its last stdout line.
 // Exit codes: 0 completed, 2 bad input, 3 numerical failure (unstable),
-// 4 a stage hit the step limit before its stop criterion.
+// 4 a stage hit the step limit before its stop criterion, 5 aborted,
+// 6 an output file could not be written (full disk, permissions: one line
+// naming the file; the files written before, e.g. the last flush of the
+// results, are intact and valid).
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <string>
 
+#include "virtual_triaxial/io/hdf5_atomic_file.h"
 #include "virtual_triaxial/io/scene_builder.h"
 #include "virtual_triaxial/io/scene_error.h"
 #include "virtual_triaxial/io/scene_parser.h"
@@ -87,6 +91,9 @@ int main(int argc, char** argv) {
       case vt::protocol::Verdict::Aborted:
       case vt::protocol::Verdict::Preempted: return 5;
     }
+  } catch (const vt::io::WriteError& e) {
+    std::fprintf(stderr, "triax_run: output: %s\n", e.what());
+    return 6;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "triax_run: error: %s\n", e.what());
     return 2;

@@ -72,6 +72,7 @@ class BagRecorder {
   std::string path_;      ///< current file (without .active)
   int file_index_ = 0;    ///< files closed so far
   std::uint64_t messages_ = 0;
+  bool failed_ = false;   ///< a write failed (full disk): recording stopped
   ::ros::WallTimer poll_timer_;
 };
 
