@@ -29,7 +29,7 @@ VT_DEB_PACKAGES=(
   libeigen3-dev libyaml-cpp-dev python3-numpy python3-h5py python3-matplotlib
   hdf5-tools libbenchmark-dev googletest libnodeletlib-tools
   # process and socket tools the entry scripts and their tests use
-  procps iproute2
+  procps iproute2 util-linux
   # triax_sweep's Slurm backend: the one-node test cluster (tests/sweep/)
   slurm-wlm munge python3-yaml
   # toolchain (normally present; a bare CI image may lack it)

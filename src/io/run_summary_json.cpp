@@ -74,6 +74,7 @@ std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx
     o << ",\"spheroid_contact_solves\":" << ctx.spheroid_contact_solves
       << ",\"spheroid_contact_fallbacks\":" << ctx.spheroid_contact_fallbacks
       << ",\"spheroid_contact_failures\":" << ctx.spheroid_contact_failures;
+  if (ctx.lockstep_timeouts >= 0) o << ",\"lockstep_timeouts\":" << ctx.lockstep_timeouts;
   o << ",\"energy_relative_balance_error\":" << number(ctx.energy_relative_balance_error)
     << ",\"results\":" << quoted(results) << "}";
   return o.str();

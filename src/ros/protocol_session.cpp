@@ -1,6 +1,7 @@
 // ProtocolSession: one test on the rig. See protocol_session.h.
 #include "virtual_triaxial/ros/protocol_session.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -66,6 +67,43 @@ void ProtocolSession::call(const std::string& name, Srv& srv) {
     return;
   } else {
     if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);
+  }
+}
+
+std::string ProtocolSession::dead_node(bool servo_too) const {
+  // service::exists connects to the service's port: refused once the process
+  // is gone (the master still lists a killed node's services). A stopped
+  // process still accepts the connection: it only costs lockstep timeouts.
+  if (!::ros::service::exists(nh_.resolveName("get_info"), false))
+    return "dem_node died (" + nh_.resolveName("get_info") + " refuses connections)";
+  if (servo_too && !::ros::service::exists(nh_.resolveName(servo_ + "/enable"), false))
+    return servo_ + " died (" + nh_.resolveName(servo_ + "/enable") + " refuses connections)";
+  return "";
+}
+
+std::optional<JudgedTick> ProtocolSession::next_tick(std::uint64_t want, bool servo_stage, SessionLinks& links,
+                                                     std::string& dead) {
+  const auto t_wait = Clock::now();
+  while (true) {
+    const double left = links.tick_timeout - seconds_since(t_wait);
+    if (left <= 0) return std::nullopt;
+    const double slice = std::min(left, kProbeSeconds);
+    const auto t_slice = Clock::now();
+    std::optional<JudgedTick> judged = links.wait_tick(want, slice);
+    if (judged) return judged;
+    if (seconds_since(t_slice) < 0.5 * slice) return std::nullopt;  // the node is shutting down
+    dead = dead_node(servo_stage);
+    if (!dead.empty()) {
+      ROS_ERROR("test_protocol_node: %s while waiting for tick %llu", dead.c_str(),
+                static_cast<unsigned long long>(want));
+      dem_dead_ = dead.rfind("dem_node", 0) == 0;
+      servo_dead_ = !dem_dead_;
+      return std::nullopt;
+    }
+    // A numerical failure stops dem_node's ticks: report it now, not after tick_timeout.
+    virtual_triaxial::GetInfo info;
+    call("get_info", info);
+    if (info.response.unstable) return std::nullopt;
   }
 }
 
@@ -150,6 +188,7 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
   if (!info.response.lockstep)
     ROS_WARN("test_protocol_node: dem_node is free-running: stage changes are not tick-exact");
   publish_every_ = info.response.publish_every;
+  timeouts_at_start_ = info.response.lockstep_timeouts;
   trigger("pause");
   virtual_triaxial::LoadSample load;
   load.request.path = protocol_path;
@@ -174,8 +213,15 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
 }
 
 void ProtocolSession::finish_rig() {
+  if (dem_dead_) return;
   try {
-    trigger(servo_ + "/disable");
+    virtual_triaxial::GetInfo info;
+    call("get_info", info);
+    ctx_.lockstep_timeouts = static_cast<std::int64_t>(info.response.lockstep_timeouts - timeouts_at_start_);
+    if (ctx_.lockstep_timeouts > 0)
+      ROS_WARN("test_protocol_node: %lld lockstep timeouts during the test (a participant answered late; see "
+               "/diagnostics)", static_cast<long long>(ctx_.lockstep_timeouts));
+    if (!servo_dead_) trigger(servo_ + "/disable");
     for (int a = 0; a < 3; ++a) {
       virtual_triaxial::SetStrainRate r;
       r.request.axis = static_cast<std::uint8_t>(a);
@@ -230,7 +276,22 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   std::uint64_t tick_progress = start;
   while (true) {
     const std::uint64_t want = tick_ + 1;
-    std::optional<JudgedTick> judged = links.wait_tick(want);
+    std::string dead;
+    std::optional<JudgedTick> judged = next_tick(want, judge.boundary().any_servo(), links, dead);
+    if (!judged && !dead.empty()) {  // a verdict naming the node, not a hang
+      const std::string failure =
+          dead + " during stage '" + st.name + "' (no state for tick " + std::to_string(want) + ")";
+      judge.fail(protocol::Verdict::Aborted, failure, failure);
+      verdict_word_ = "failed";
+      if (!dem_dead_) {
+        try {
+          trigger("pause");
+        } catch (const RigError& e) {
+          ROS_WARN("test_protocol_node: %s", e.what());
+        }
+      }
+      break;
+    }
     if (!judged) {
       virtual_triaxial::GetInfo info;
       call("get_info", info);
@@ -302,7 +363,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
     if (last) break;
   }
   const std::int64_t stage_steps = static_cast<std::int64_t>(tick_ - start) * n;
-  if (!checkpoint_dir_.empty()) {  // the rig is paused: the state after the stage, restartable bit for bit
+  if (!checkpoint_dir_.empty() && !dem_dead_) {  // the rig is paused: the state after the stage, restartable bit for bit
     virtual_triaxial::SaveSample save;
     save.request.path = checkpoint_dir_ + "/after_" + std::to_string(index) + "_" + st.name + ".h5";
     try {

@@ -11,6 +11,7 @@
 #include "virtual_triaxial/ProtocolStatus.h"
 #include "virtual_triaxial/io/scene_error.h"
 #include "virtual_triaxial/io/scene_parser.h"
+#include "virtual_triaxial/io/text_file.h"
 #include "virtual_triaxial/ros/parameters.h"
 #include "virtual_triaxial/ros/protocol_session.h"
 
@@ -150,8 +151,8 @@ void TestProtocolNode::answer(std::uint64_t tick) {
   command_pub_.publish(c);
 }
 
-std::optional<JudgedTick> TestProtocolNode::wait_tick(std::uint64_t tick) {
-  const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(tick_timeout_);
+std::optional<JudgedTick> TestProtocolNode::wait_tick(std::uint64_t tick, double seconds) {
+  const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(seconds);
   std::unique_lock<std::mutex> lock(tick_mutex_);
   while (::ros::ok() && !shutdown_) {
     const auto it = judged_.find(tick);
@@ -182,9 +183,11 @@ std::string protocol_path(const virtual_triaxial::RunTestGoal& g, const fs::path
     throw io::SceneError("goal", "give exactly one of protocol_file and protocol_yaml");
   if (file) return fs::absolute(g.protocol_file).string();
   const fs::path p = dir / "protocol.yaml";
-  std::ofstream out(p);
-  out << g.protocol_yaml;
-  if (!out) throw io::SceneError("output_dir", "cannot write " + p.string());
+  try {
+    io::write_text_atomic(p.string(), g.protocol_yaml);
+  } catch (const io::WriteError& e) {
+    throw io::SceneError("output_dir", e.what());
+  }
   return p.string();
 }
 
@@ -232,7 +235,8 @@ void TestProtocolNode::execute(GoalHandle gh) {
     if (!ec) session.set_checkpoint_dir((dir / "checkpoints").string());
   }
   SessionLinks links;
-  links.wait_tick = [this](std::uint64_t t) { return wait_tick(t); };
+  links.wait_tick = [this](std::uint64_t t, double s) { return wait_tick(t, s); };
+  links.tick_timeout = tick_timeout_;
   links.stop_request = [this]() -> const char* {
     if (preempt_) return "preempted";
     if (abort_) return "aborted";
@@ -251,9 +255,10 @@ void TestProtocolNode::execute(GoalHandle gh) {
     return refuse("failed", e.what());
   }
   const std::string json = io::run_summary_json(report, session.context(), result.results_file);
-  {
-    std::ofstream out(result.summary_file);
-    out << json << "\n";
+  try {
+    io::write_text_atomic(result.summary_file, json + "\n");
+  } catch (const io::WriteError& e) {
+    return refuse("failed", std::string("output: ") + e.what());
   }
   result.verdict = session.verdict_word();
   result.message = report.failure;

@@ -18,6 +18,9 @@ struct RunContext {
   /// Spheroid contact solver over the run (spheroid_contact.h); -1 = unknown
   /// (the rig's protocol node does not see them).
   std::int64_t spheroid_contact_solves = -1, spheroid_contact_fallbacks = -1, spheroid_contact_failures = -1;
+  /// Control ticks on which dem_node waited in vain for a lockstep
+  /// participant's command (the rig only; -1 = not applicable).
+  std::int64_t lockstep_timeouts = -1;
 };
 RunContext run_context(const dem::Simulation& sim);
 

@@ -50,8 +50,10 @@ struct JudgedTick {
 
 /// How the session talks to its node.
 struct SessionLinks {
-  /// The next judged tick; nullopt when none came in time (or the node stops).
-  std::function<std::optional<JudgedTick>(std::uint64_t)> wait_tick;
+  /// The next judged tick; nullopt when none came within `seconds` (or the node stops).
+  std::function<std::optional<JudgedTick>(std::uint64_t tick, double seconds)> wait_tick;
+  /// Wall seconds without a tick after which the session asks dem_node why.
+  double tick_timeout = 30.0;
   /// Installs the judge for the ticks after `start` (a null judge: none).
   std::function<void(TickJudge, std::uint64_t start)> arm;
   std::function<const char*()> stop_request;   ///< nullptr, "aborted" or "preempted"
@@ -88,6 +90,13 @@ class ProtocolSession {
   bool run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count, io::ResultsRecorder& recorder,
                  SessionLinks& links, protocol::RunReport& report);
   void finish_rig();
+  /// "" while dem_node (and, with `servo_too`, the servo) has a live process
+  /// behind its services; else which one died. A TCP connect per call.
+  std::string dead_node(bool servo_too) const;
+  /// The next tick, probing the nodes every kProbeSeconds without one; on
+  /// nullopt `dead` names the node that died ("" = tick_timeout passed).
+  std::optional<JudgedTick> next_tick(std::uint64_t want, bool servo_stage, SessionLinks& links, std::string& dead);
+  static constexpr double kProbeSeconds = 1.0;
 
   ::ros::NodeHandle nh_;
   std::string servo_, owner_;
@@ -99,6 +108,8 @@ class ProtocolSession {
   std::string verdict_word_ = "completed";
   std::string protocol_name_;
   std::string checkpoint_dir_;
+  bool dem_dead_ = false, servo_dead_ = false;  ///< found dead: no more calls to it
+  std::uint64_t timeouts_at_start_ = 0;         ///< dem_node's lockstep timeouts before the test
 };
 
 }  // namespace vt::ros

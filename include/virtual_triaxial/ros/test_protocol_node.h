@@ -93,8 +93,8 @@ class TestProtocolNode {
   void on_goal(GoalHandle goal);
   void on_cancel(GoalHandle goal);
   void execute(GoalHandle goal);  ///< in worker_
-  /// The judged state of `tick`, or nullopt after tick_timeout (or when stopped).
-  std::optional<JudgedTick> wait_tick(std::uint64_t tick);
+  /// The judged state of `tick`, or nullopt after `seconds` (or when stopped).
+  std::optional<JudgedTick> wait_tick(std::uint64_t tick, double seconds);
   /// A state message (any thread): collect it; judge the ticks now complete.
   template <class M>
   void on_state(const M& m);

@@ -1,0 +1,284 @@
+// Fault injection into the main entry script (launch_equiv_scripts/run_triaxial.sh)
+// on tests/data/protocols/rig_faults.yaml, each fault injected once the shear
+// stage runs (the client has printed a "[shear]" feedback line):
+//   - SIGINT to the script: the summary says "preempted" within seconds, the
+//     script exits with 130, the bag is closed (no .bag.active) and
+//     readable with the ticks up to the stop, the plots of what was recorded
+//     are there; while that rig ran, no process of it listened on a
+//     non-loopback address: the rig runs in a network namespace of its own
+//     that holds only the loopback interface, and no listener of the rig's
+//     processes is visible in the test's own namespace;
+//   - kill -9 of the rig process (the nodelet manager rig_manager): within
+//     seconds summary.json says "interrupted" and names rig_manager; the
+//     script exits 3;
+//   - the rig as three processes (nodelets:=false), kill -9 of the servo: the
+//     protocol node ends the test with a verdict naming the servo (not a
+//     teardown) within seconds, the script exits non-zero;
+// and in every case no process the script started is left running. The
+// verdicts are due within kVerdictBound seconds; the exits (rig stopped,
+// plots made) get kExitBound on a busy machine; both times are printed.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include "virtual_triaxial/Stress.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Parent pid of a process (0 if gone).
+int parent_of(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(in, line)) return 0;
+  const auto close = line.rfind(')');
+  std::istringstream rest(line.substr(close + 2));
+  char state;
+  int ppid = 0;
+  rest >> state >> ppid;
+  return ppid;
+}
+
+std::string cmdline_of(int pid) {
+  std::string s = slurp("/proc/" + std::to_string(pid) + "/cmdline");
+  for (char& c : s)
+    if (c == '\0') c = ' ';
+  return s;
+}
+
+/// `root` and every process below it.
+std::set<int> descendants(int root) {
+  std::set<int> out{root};
+  bool grew = true;
+  while (grew) {
+    grew = false;
+    for (const auto& e : fs::directory_iterator("/proc")) {
+      const std::string name = e.path().filename().string();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+      const int pid = std::stoi(name);
+      if (!out.count(pid) && out.count(parent_of(pid))) {
+        out.insert(pid);
+        grew = true;
+      }
+    }
+  }
+  return out;
+}
+
+bool alive(int pid) { return ::kill(pid, 0) == 0 && slurp("/proc/" + std::to_string(pid) + "/stat").find(") Z") == std::string::npos; }
+
+/// One run of run_triaxial.sh in the background, in a process group of its
+/// own (so that the test can always clean up after it).
+class ScriptRun {
+ public:
+  ScriptRun(const std::string& tag, const std::string& env) {
+    out_ = fs::temp_directory_path() / ("vt_rig_faults_" + tag + "_" + std::to_string(::getpid()));
+    fs::remove_all(out_);
+    log_ = out_.string() + ".log";
+    const std::string cmd = "cd '" VT_SOURCE_DIR "' && OUT='" + out_.string() + "' " + env +
+                            " exec launch_equiv_scripts/run_triaxial.sh tests/data/protocols/rig_faults.yaml > '" +
+                            log_.string() + "' 2>&1";
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::setpgid(0, 0);
+      ::execl("/bin/bash", "bash", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~ScriptRun() {
+    // Whatever happened: nothing started here survives the test.
+    for (int p : descendants(pid_)) ::kill(p, SIGKILL);
+    for (int p : seen_) ::kill(p, SIGKILL);
+    if (code_ == kRunning) ::waitpid(pid_, nullptr, 0);
+  }
+  /// Waits until the log shows the shear stage running; false after `seconds`.
+  bool wait_for_shear(double seconds) {
+    const auto t0 = Clock::now();
+    while (seconds_since(t0) < seconds) {
+      if (slurp(log_).find("[shear] eps_a") != std::string::npos) {
+        seen_ = descendants(pid_);
+        return true;
+      }
+      if (exited()) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  }
+  /// Seconds until the script exits, or -1 after `limit` seconds; also
+  /// notes when summary.json (the verdict) appeared (verdict_seconds()).
+  double wait_exit(double limit) {
+    const auto t0 = Clock::now();
+    verdict_seconds_ = -1;
+    while (seconds_since(t0) < limit) {
+      if (verdict_seconds_ < 0 && fs::exists(out_ / "summary.json")) verdict_seconds_ = seconds_since(t0);
+      if (exited()) return seconds_since(t0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return -1;
+  }
+  double verdict_seconds() const { return verdict_seconds_; }
+  bool exited() {
+    if (code_ != kRunning) return true;
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) != pid_) return false;
+    code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return true;
+  }
+  /// A process of the rig whose command line holds `needle` (0: none).
+  int find(const std::string& needle) const {
+    for (int p : descendants(pid_))
+      if (cmdline_of(p).find(needle) != std::string::npos) return p;
+    return 0;
+  }
+  /// Processes seen at the fault that still run.
+  std::vector<int> left_behind() const {
+    std::vector<int> left;
+    for (int p : seen_)
+      if (p != pid_ && alive(p)) left.push_back(p);
+    return left;
+  }
+  int pid() const { return pid_; }
+  int code() const { return code_; }
+  const fs::path& out() const { return out_; }
+  std::string log() const { return slurp(log_); }
+  const std::set<int>& seen() const { return seen_; }
+
+ private:
+  static constexpr int kRunning = -1000;
+  fs::path out_, log_;
+  int pid_ = -1;
+  int code_ = kRunning;
+  double verdict_seconds_ = -1;
+  std::set<int> seen_;
+};
+
+constexpr double kStartup = 180.0;  // build check + master + rig + consolidation, busy machine
+// The verdict (summary.json) is due within seconds; the exit, which also
+// stops the rig and makes the plots (matplotlib: slow on a busy 2-core
+// machine), gets a generous bound. Both are printed.
+constexpr double kVerdictBound = 15.0, kExitBound = 90.0;
+
+std::string run(const std::string& cmd) {
+  std::string out;
+  FILE* f = ::popen(cmd.c_str(), "r");
+  if (!f) return out;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  ::pclose(f);
+  return out;
+}
+
+TEST(RigFaults, SigintPreemptsClosesTheBagAndNothingListensBeyondLoopback) {
+  ScriptRun r("sigint", "");
+  ASSERT_TRUE(r.wait_for_shear(kStartup)) << r.log();
+  // Closed to the network: the rig's processes live in a namespace holding
+  // only loopback, and they do listen there (so the check is not vacuous).
+  const int rig = r.find("__name:=rig_manager");
+  ASSERT_GT(rig, 0) << "no rig_manager process below the script";
+  EXPECT_NE(fs::read_symlink("/proc/" + std::to_string(rig) + "/ns/net"), fs::read_symlink("/proc/self/ns/net"))
+      << "the rig shares the test's network namespace";
+  const std::string links = run("nsenter -t " + std::to_string(rig) + " -n ip -o link show");
+  EXPECT_NE(links.find(": lo:"), std::string::npos) << links;
+  EXPECT_EQ(std::count(links.begin(), links.end(), '\n'), 1) << "the rig's namespace has more than loopback:\n" << links;
+  const std::string inside = run("nsenter -t " + std::to_string(rig) + " -n ss -ltnpH");
+  EXPECT_NE(inside.find("pid=" + std::to_string(rig) + ","), std::string::npos)
+      << "the rig listens on nothing in its namespace?\n" << inside;
+  const std::string host = run("ss -ltnpH");
+  for (int p : r.seen())
+    EXPECT_EQ(host.find("pid=" + std::to_string(p) + ","), std::string::npos)
+        << cmdline_of(p) << " listens in the test's namespace:\n" << host;
+
+  const auto t_int = Clock::now();
+  ASSERT_EQ(::kill(r.pid(), SIGINT), 0);
+  const double took = r.wait_exit(kExitBound);
+  ASSERT_GE(took, 0) << "the script did not exit within " << kExitBound << " s of SIGINT\n" << r.log();
+  std::printf("[ measured ] SIGINT to verdict %.2f s, to exit %.2f s (bag closed, plots)\n", r.verdict_seconds(),
+              seconds_since(t_int));
+  EXPECT_GE(r.verdict_seconds(), 0);
+  EXPECT_LE(r.verdict_seconds(), kVerdictBound) << r.log();
+  EXPECT_EQ(r.code(), 130) << r.log();
+  const std::string summary = slurp(r.out() / "summary.json");
+  EXPECT_NE(summary.find("\"verdict\":\"preempted\""), std::string::npos) << summary;
+  EXPECT_FALSE(fs::exists(r.out() / "rig_0.bag.active"));
+  ASSERT_TRUE(fs::exists(r.out() / "rig_0.bag")) << r.log();
+  std::size_t n = 0;
+  {
+    rosbag::Bag bag((r.out() / "rig_0.bag").string(), rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{"/stress"}));
+    n = view.size();
+  }
+  EXPECT_GT(n, 100u) << "the closed bag holds the ticks up to the stop";
+  for (const char* f : {"plots/q_eps_a.png", "plots/rig_series.csv", "results.h5"})
+    EXPECT_TRUE(fs::exists(r.out() / f)) << f;
+  EXPECT_TRUE(r.left_behind().empty()) << "processes left behind";
+}
+
+TEST(RigFaults, KilledRigProcessEndsTheScriptWithAVerdictNamingIt) {
+  ScriptRun r("kill_rig", "");
+  ASSERT_TRUE(r.wait_for_shear(kStartup)) << r.log();
+  const int rig = r.find("__name:=rig_manager");
+  ASSERT_GT(rig, 0);
+  ASSERT_EQ(::kill(rig, SIGKILL), 0);
+  const double took = r.wait_exit(kExitBound);
+  ASSERT_GE(took, 0) << "the script hangs after kill -9 of the rig\n" << r.log();
+  std::printf("[ measured ] kill -9 rig_manager to verdict %.2f s, to exit %.2f s\n", r.verdict_seconds(), took);
+  EXPECT_GE(r.verdict_seconds(), 0);
+  EXPECT_LE(r.verdict_seconds(), kVerdictBound);
+  EXPECT_EQ(r.code(), 3) << r.log();
+  const std::string summary = slurp(r.out() / "summary.json");
+  EXPECT_NE(summary.find("\"verdict\": \"interrupted\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("rig_manager (pid " + std::to_string(rig) + ", exit code -9)"), std::string::npos)
+      << summary;
+  EXPECT_TRUE(r.left_behind().empty()) << "processes left behind";
+}
+
+TEST(RigFaults, KilledServoOfTheProcessRigIsAVerdictNotATeardown) {
+  ScriptRun r("kill_servo", "RIG_ARGS='nodelets:=false'");
+  ASSERT_TRUE(r.wait_for_shear(kStartup)) << r.log();
+  const int servo = r.find("__name:=servo");
+  ASSERT_GT(servo, 0);
+  ASSERT_EQ(::kill(servo, SIGKILL), 0);
+  const double took = r.wait_exit(kExitBound);
+  ASSERT_GE(took, 0) << "the script hangs after kill -9 of the servo\n" << r.log();
+  std::printf("[ measured ] kill -9 servo to verdict %.2f s, to exit %.2f s\n", r.verdict_seconds(), took);
+  EXPECT_GE(r.verdict_seconds(), 0);
+  EXPECT_LE(r.verdict_seconds(), kVerdictBound);
+  EXPECT_NE(r.code(), 0);
+  const std::string summary = slurp(r.out() / "summary.json");
+  // The protocol node's own verdict (the rig was not torn down): it names
+  // the servo and keeps the test's history.
+  EXPECT_NE(summary.find("\"verdict\":\"aborted\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("servo died ("), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"lockstep_timeouts\":"), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(r.out() / "results.h5"));
+  EXPECT_TRUE(r.left_behind().empty()) << "processes left behind";
+}
+
+}  // namespace
