@@ -28,6 +28,11 @@
 #   plots/            bag_report.py: q-eps_a, eps_v-eps_a, q-p, e-log p,
 #                     I_mom and kinetic energy; rig_series.csv
 #   results_*.png     plot_results.py of results.h5
+#   specimen/         VTK snapshots of the specimen (dem_node ~snapshot_dir: at
+#                     the load, at every stage end, every output.snapshot_interval
+#                     steps); open specimen/*.pvd in ParaView
+#   specimen_section.png  section through the cell before and after the test
+#                     (scripts/specimen_section.py)
 #   ros_home/         ROS logs of this run (rig.log: roslaunch and the nodes)
 #
 # Faults (README "When things go wrong"): no wait is unbounded. A process of
@@ -69,7 +74,8 @@ protocol="$(realpath "${1:-config/protocols/drained_100kPa.yaml}")"
 [[ -f "${protocol}" ]] || { echo "[rig] ERROR: protocol: no such file: ${protocol}" >&2; exit 2; }
 out="$(mkdir -p "${OUT:-output/default}" && cd "${OUT:-output/default}" && pwd)"
 servo_node="${SERVO_NODE:-servo_controller_node}"
-rm -rf "${out}"/rig_*.bag "${out}"/rig_*.bag.active "${out}/plots" "${out}/summary.json" "${out}/results.h5"
+rm -rf "${out}"/rig_*.bag "${out}"/rig_*.bag.active "${out}/plots" "${out}/summary.json" "${out}/results.h5" \
+  "${out}/specimen_section.png"
 
 export PATH
 # Rig settings that must match the protocol (control.interval, control.servo).
@@ -183,7 +189,8 @@ record_args=()
 setsid roslaunch --sigint-timeout 4 --sigterm-timeout 2 virtual_triaxial protocol_rig.launch \
   sample:="${protocol}" output_dir:="${out}" \
   publish_every:="${interval}" servo_gain:="${gain}" servo_max_dimensionless_rate:="${max_rate}" \
-  servo_strategy:="${strategy}" servo_node:="${servo_node}" "${record_args[@]}" ${RIG_ARGS:-} \
+  servo_strategy:="${strategy}" servo_node:="${servo_node}" snapshot_dir:="${out}/specimen" \
+  "${record_args[@]}" ${RIG_ARGS:-} \
   >"${ROS_HOME}/rig.log" 2>&1 </dev/null &
 launch_pid=$!
 pids+=("${launch_pid}")
@@ -274,6 +281,10 @@ cleanup
 echo "[rig] rig stopped ($((SECONDS - t_stop)) s); plots"
 if [[ "${record}" != 0 ]] && compgen -G "${out}/rig*.bag" >/dev/null; then
   /usr/bin/python3 scripts/bag_report.py "${out}"/rig*.bag --out "${out}/plots" &
+  plot_pids+=($!)
+fi
+if [[ -f "${out}/specimen/snapshots.csv" ]]; then
+  /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" &
   plot_pids+=($!)
 fi
 for p in "${plot_pids[@]}"; do

@@ -28,6 +28,8 @@ VT_DEB_PACKAGES=(
   python3-rostest librostest-dev rosbash ros-std-srvs libhdf5-dev
   libeigen3-dev libyaml-cpp-dev python3-numpy python3-h5py python3-matplotlib
   hdf5-tools libbenchmark-dev googletest libnodeletlib-tools
+  # specimen views: RViz markers (dem_node) and the VTK read-back tests
+  libvisualization-msgs-dev python3-vtk9
   # process and socket tools the entry scripts and their tests use
   procps iproute2 util-linux
   # triax_sweep's Slurm backend: the one-node test cluster (tests/sweep/)

@@ -14,9 +14,13 @@ Vec3 principal_values(const Mat3& s) {
   return {ev(2), ev(1), ev(0)};
 }
 
-Coordination mechanical_coordination(std::size_t n_particles,
-                                     const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts,
-                                     const std::vector<double>& mass) {
+namespace {
+
+/// The peeling of section 4.5 (see idle_particles); `contact_alive` gets 0
+/// for every removed contact.
+std::vector<std::uint8_t> peel_idle(std::size_t n_particles,
+                                    const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts,
+                                    std::vector<char>& contact_alive) {
   // Section 4.5: particles with fewer than 3 contacts are idle; their
   // contacts are idle too; repeat until no more particles are removed. The
   // particles that remain form the 3-core of the contact graph, which does
@@ -38,8 +42,8 @@ Coordination mechanical_coordination(std::size_t n_particles,
       incident[static_cast<std::size_t>(fill[static_cast<std::size_t>(contacts[k].second)]++)] = static_cast<std::int32_t>(k);
     }
   }
-  std::vector<char> idle(n_particles, 0);
-  std::vector<char> contact_alive(nc, 1);
+  std::vector<std::uint8_t> idle(n_particles, 0);
+  contact_alive.assign(nc, 1);
   std::vector<std::int32_t> work;
   for (std::size_t i = 0; i < n_particles; ++i)
     if (degree[i] < 3) {
@@ -63,6 +67,22 @@ Coordination mechanical_coordination(std::size_t n_particles,
       }
     }
   }
+  return idle;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> idle_particles(std::size_t n_particles,
+                                         const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts) {
+  std::vector<char> contact_alive;
+  return peel_idle(n_particles, contacts, contact_alive);
+}
+
+Coordination mechanical_coordination(std::size_t n_particles,
+                                     const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts,
+                                     const std::vector<double>& mass) {
+  std::vector<char> contact_alive;
+  const std::vector<std::uint8_t> idle = peel_idle(n_particles, contacts, contact_alive);
   Coordination r;
   double idle_mass = 0, total_mass = 0;
   for (std::size_t i = 0; i < n_particles; ++i) {

@@ -221,11 +221,15 @@ void parse_stability(const YAML::Node& node, dem::StabilityLimits& lim) {
 }
 
 void parse_output(const YAML::Node& node, OutputSpec& out) {
-  const Section s(node, "output", {"interval", "progress_seconds"});
+  const Section s(node, "output", {"interval", "progress_seconds", "snapshot_interval"});
   out.interval = s.integer_or("interval", out.interval);
   require(out.interval > 0, s.path("interval"),
           "must be an integer > 0, got " + std::to_string(out.interval));
   out.progress_seconds = positive(s, "progress_seconds", out.progress_seconds);
+  out.snapshot_interval = s.integer_or("snapshot_interval", out.snapshot_interval);
+  require(out.snapshot_interval >= 0 && out.snapshot_interval % out.interval == 0, s.path("snapshot_interval"),
+          "must be 0 (no snapshots) or a multiple of output.interval (" + std::to_string(out.interval) +
+              ") so that snapshots fall on samples, got " + std::to_string(out.snapshot_interval));
 }
 
 void parse_control(const YAML::Node& node, ControlSpec& c) {

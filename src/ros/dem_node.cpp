@@ -38,6 +38,7 @@ std::vector<int> to_axes(const std::vector<std::uint8_t>& a) { return {a.begin()
 DemNode::DemNode(const ::ros::NodeHandle& nh, const ::ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh) {
   nh_.setCallbackQueue(&queue_);
   pnh_.setCallbackQueue(&queue_);
+  views_ = std::make_unique<SpecimenViews>(nh_, pnh_);
   read_parameters();
   advertise();
   // pnh_ uses queue_: reconfigure requests are served between control ticks.
@@ -96,6 +97,7 @@ void DemNode::install(Specimen s) {
   source_ = s.source;
   arbiter_.reset_commands();
   if (reconfigure_) reconfigure_->sync();
+  views_->on_load(*sim_, s.snapshot_interval, source_);
   ROS_INFO("dem_node: %zu particles from %s; T0 %.4g s, dt %.4g s (c_t %.3g), %d steps per control tick, %s",
            sim_->particles().size(), source_.c_str(), sim_->time_scale().t0, sim_->dt(),
            sim_->settings().time_step_ratio, publish_every_, lockstep_ ? "lockstep" : "free-running");
@@ -163,6 +165,7 @@ void DemNode::run_tick() {
   ++tick_;
   const ::ros::WallTime t1 = ::ros::WallTime::now();
   publish_state(rates);
+  views_->on_tick(*sim_);
   if (clock_period_ <= 0.0 || (t1 - last_clock_).toSec() >= clock_period_) publish_clock();
   const ::ros::WallTime t2 = ::ros::WallTime::now();
   if (lockstep_) wait_for_commands();
@@ -308,6 +311,7 @@ bool DemNode::on_pause(std_srvs::Trigger::Request&, std_srvs::Trigger::Response&
   rs.success = true;
   rs.message = "paused after tick " + std::to_string(tick_);
   publish_clock();  // the clock stands at the last tick's time
+  views_->on_pause(*sim_);
   ROS_INFO("dem_node: paused after tick %llu; %s", static_cast<unsigned long long>(tick_),
            diag_.tick_summary().c_str());
   return true;

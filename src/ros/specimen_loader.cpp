@@ -55,6 +55,7 @@ Specimen SpecimenLoader::load_scene(const std::string& path) const {
   const io::SceneConfig scene = io::load_scene(path);
   s.sim = std::make_unique<dem::Simulation>(io::build_simulation(scene));
   s.source = path;
+  s.snapshot_interval = scene.output.snapshot_interval;
   s.meta.created_by = "dem_node scene " + path;
   if (!scene.stages.empty())
     s.warning += "the scene's " + std::to_string(scene.stages.size()) +

@@ -1,7 +1,12 @@
-// triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--quiet] [--check]
+// triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--specimen DIR] [--quiet] [--check]
 //
 // --check only reads and validates the file (exit 0 valid, 2 bad input with
 // the one-line error naming the field); triax_sweep checks its inputs so.
+//
+// --specimen DIR: VTK snapshots of the specimen in DIR at every stage start
+// and end and every output.snapshot_interval steps (io/snapshot_recorder.h),
+// then the section pictures DIR/section_*.png (scripts/specimen_section.py;
+// a failure to render is a warning, not an error).
 // Runs a scene headless: prints progress on stderr, writes an HDF5 time
 // series of all measures, prints a JSON summary as its last stdout line.
 // Exit codes: 0 completed, 2 bad input, 3 numerical failure (unstable),
@@ -9,8 +14,13 @@
 // 6 an output file could not be written (full disk, permissions: one line
 // naming the file; the files written before, e.g. the last flush of the
 // results, are intact and valid).
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <cstdio>
 #include <cstring>
+#include <memory>
+#include <vector>
 #include <exception>
 #include <string>
 
@@ -21,18 +31,40 @@
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/io/results_recorder.h"
 #include "virtual_triaxial/io/run_summary_json.h"
+#include "virtual_triaxial/io/snapshot_recorder.h"
+#include "virtual_triaxial/io/vtk_snapshot_writer.h"
+#include "virtual_triaxial/protocol/run_observers.h"
+
+extern char** environ;
 
 namespace {
 
 struct Args {
-  std::string scene, out = "results.h5", save_sample;
+  std::string scene, out = "results.h5", save_sample, specimen;
   bool quiet = false;
   bool check = false;
 };
 
 int usage(const char* msg) {
-  std::fprintf(stderr, "triax_run: %s\nusage: triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--quiet] [--check]\n", msg);
+  std::fprintf(stderr, "triax_run: %s\nusage: triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] "
+                       "[--specimen DIR] [--quiet] [--check]\n", msg);
   return 2;
+}
+
+/// scripts/specimen_section.py DIR: the section pictures of the snapshots.
+void render_sections(const std::string& dir, bool quiet) {
+  const std::string script = std::string(VT_SCRIPTS_DIR) + "/specimen_section.py";
+  std::vector<std::string> args = {"/usr/bin/python3", script, dir};
+  if (quiet) args.push_back("--quiet");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  int status = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0 || waitpid(pid, &status, 0) < 0 ||
+      !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    std::fprintf(stderr, "triax_run: warning: no section pictures (%s %s failed); the snapshots are in %s\n",
+                 script.c_str(), dir.c_str(), dir.c_str());
 }
 
 }  // namespace
@@ -42,6 +74,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string s = argv[i];
     if ((s == "--out" || s == "--save-sample") && i + 1 < argc) (s == "--out" ? a.out : a.save_sample) = argv[++i];
+    else if (s == "--specimen" && i + 1 < argc) a.specimen = argv[++i];
     else if (s == "--quiet") a.quiet = true;
     else if (s == "--check") a.check = true;
     else if (s == "-h" || s == "--help") return usage("help"), 0;
@@ -74,7 +107,16 @@ int main(int argc, char** argv) {
     vt::protocol::RunOptions opt = scene.run_options();
     if (a.quiet) opt.progress_seconds = 0.0;
     vt::protocol::StageRunner runner(sim, opt);
-    const vt::protocol::RunReport report = runner.run(scene.stages, recorder);
+    vt::protocol::RunObservers observers;
+    observers.add(recorder);
+    std::unique_ptr<vt::io::VtkSnapshotSeries> series;
+    std::unique_ptr<vt::io::SnapshotRecorder> snapshots;
+    if (!a.specimen.empty()) {
+      series = std::make_unique<vt::io::VtkSnapshotSeries>(a.specimen);
+      snapshots = std::make_unique<vt::io::SnapshotRecorder>(sim, *series, scene.output.snapshot_interval);
+      observers.add(*snapshots);
+    }
+    const vt::protocol::RunReport report = runner.run(scene.stages, observers);
     recorder.finish(report, sim);
     if (report.verdict == vt::protocol::Verdict::Unstable && report.last_good) {
       const std::string path = a.out + ".last_good.h5";
@@ -83,6 +125,10 @@ int main(int argc, char** argv) {
                    report.failure.c_str(), path.c_str());
     }
     if (!a.save_sample.empty()) recorder.save_sample(a.save_sample, sim.state(), scene);
+    if (series) {
+      std::fprintf(stderr, "triax_run: %zu specimen snapshots in %s\n", series->count(), a.specimen.c_str());
+      render_sections(a.specimen, a.quiet);
+    }
     std::printf("%s\n", vt::io::run_summary_json(report, sim, a.out).c_str());
     switch (report.verdict) {
       case vt::protocol::Verdict::Completed: return 0;

@@ -116,6 +116,7 @@ TEST(SceneParser, DefaultSceneHasTheExpectedValues) {
 
   EXPECT_EQ(c.output.interval, 200);
   EXPECT_EQ(c.output.progress_seconds, 2.0);
+  EXPECT_EQ(c.output.snapshot_interval, 0);  // off by default
 }
 
 TEST(SceneParser, ListSceneParsesIdsVectorsAndVelocityDefaults) {
@@ -270,6 +271,9 @@ TEST(SceneParser, ErrorsNameTheField) {
       {"zero overlap limit", scene("stability: {max_overlap_ratio: 0}\n"), "stability.max_overlap_ratio"},
       {"output interval 0", scene("output: {interval: 0}\n"), "output.interval"},
       {"output interval 2.5", scene("output: {interval: 2.5}\n"), "output.interval"},
+      {"snapshot interval not a multiple", scene("output: {interval: 100, snapshot_interval: 150}\n"),
+       "output.snapshot_interval"},
+      {"negative snapshot interval", scene("output: {snapshot_interval: -100}\n"), "output.snapshot_interval"},
       {"no strain rate", scene("", kDist, "stages:\n  - {type: isotropic_compression, stop: {steps: 1}}\n"),
        "stages[0].strain_rate_dimensionless"},
       {"both strain rates", scene("", kDist, shear + ", strain_rate: 1.0, stop: {steps: 1}}\n"),

@@ -65,6 +65,12 @@ struct Coordination {
   std::int64_t active_contacts = 0;
 };
 
+/// Idle particles of section 4.5: 1 for a particle removed by the iterative
+/// removal of particles with fewer than 3 contacts (and their contacts), 0
+/// for the rest (the 3-core of the contact graph). contacts: index pairs.
+std::vector<std::uint8_t> idle_particles(std::size_t n_particles,
+                                         const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts);
+
 /// contacts as index pairs (a, b); mass per particle.
 Coordination mechanical_coordination(std::size_t n_particles,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& contacts,

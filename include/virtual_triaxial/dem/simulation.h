@@ -69,6 +69,8 @@ class Simulation {
   /// Love-Weber average (eq. 127), symmetrised, compression positive.
   Mat3 current_stress() const;
   double current_mean_stress() const { return current_stress().trace() / 3.0; }
+  /// True once a force evaluation has run (the pair states hold forces).
+  bool has_forces() const { return last_force_volume_ > 0.0; }
   bool unstable() const { return !failure_.empty(); }
   const std::string& failure() const { return failure_; }
 

@@ -53,6 +53,9 @@ using protocol::StopCriteria;
 struct OutputSpec {
   std::int64_t interval = 100;         ///< steps between recorded samples
   double progress_seconds = 2.0;       ///< wall seconds between progress lines
+  /// Steps between VTK snapshots of the specimen (io/vtk_snapshot_writer.h),
+  /// counted from each stage start; 0 = none (default). A multiple of interval.
+  std::int64_t snapshot_interval = 0;
 };
 
 /// `control:` -- control ticks, the servo of servo stages, the summary.

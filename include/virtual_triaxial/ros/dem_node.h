@@ -21,6 +21,9 @@
 //                           use_sim_time (rosout, recorder, clients).
 //   damping_model, damping_ratio, time_step_ratio   override the file's values
 //                           (applied again on every load_sample)
+//   snapshot_dir, snapshot_interval, markers, marker_period, marker_forces,
+//   marker_max_particles, marker_frame: views of the specimen (VTK snapshots,
+//   RViz markers on `specimen_markers`), ros/specimen_views.h; off by default
 // Bad parameters: the constructor throws, naming the parameter.
 //
 // Topics (relative to the node's namespace; one rig per namespace):
@@ -82,6 +85,7 @@
 #include "virtual_triaxial/ros/dem_diagnostics.h"
 #include "virtual_triaxial/ros/dem_reconfigure.h"
 #include "virtual_triaxial/ros/specimen_loader.h"
+#include "virtual_triaxial/ros/specimen_views.h"
 
 namespace vt::ros {
 
@@ -149,6 +153,7 @@ class DemNode {
   ::ros::Subscriber command_sub_;
   std::vector<::ros::ServiceServer> services_;
   std::unique_ptr<DemReconfigure> reconfigure_;  ///< live tuning; on pnh_ (queue_)
+  std::unique_ptr<SpecimenViews> views_;         ///< snapshots and RViz markers (off by default)
 };
 
 }  // namespace vt::ros

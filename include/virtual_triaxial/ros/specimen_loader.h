@@ -10,6 +10,7 @@
 // the load (the reference only affects the strain measures, not the motion).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +34,7 @@ struct Specimen {
   io::SampleMetadata meta;
   std::string source;    ///< the file it came from
   std::string warning;   ///< non-fatal remarks ("" if none)
+  std::int64_t snapshot_interval = 0;  ///< a scene's output.snapshot_interval (0: none, or a sample file)
 };
 
 class SpecimenLoader {
