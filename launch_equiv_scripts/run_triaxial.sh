@@ -6,6 +6,7 @@
 #   RECORD=0 ...   no rosbag recording (and no bag plots), e.g. to time the rig alone
 #   RIG_ARGS="nodelets:=false ..."   extra protocol_rig.launch arguments
 #   VT_NETNS=0 ... do not run the rig in its own network namespace
+#   SNAPSHOTS=0 ...   no specimen snapshots (and no specimen picture)
 #
 # Default protocol: config/protocols/drained_100kPa.yaml (the shipped dense
 # 1000-sphere sample, servo consolidation at 100 kPa, drained shear at
@@ -184,12 +185,15 @@ record_args=()
 # control ticks) runs inside the rig's process as a nodelet: the rig's own
 # topics reach it as pointers, so recording costs the lockstep loop nothing.
 [[ "${record}" != 0 ]] && record_args=(record:="${out}/rig")
+# Specimen snapshots (dem_node ~snapshot_dir): load, stage ends, output.snapshot_interval.
+snapshot_args=()
+[[ "${SNAPSHOTS:-1}" != 0 ]] && snapshot_args=(snapshot_dir:="${out}/specimen")
 # Bounded shutdown: a node that ignores SIGINT gets SIGTERM after 4 s, then SIGKILL.
 # shellcheck disable=SC2086
 setsid roslaunch --sigint-timeout 4 --sigterm-timeout 2 virtual_triaxial protocol_rig.launch \
   sample:="${protocol}" output_dir:="${out}" \
   publish_every:="${interval}" servo_gain:="${gain}" servo_max_dimensionless_rate:="${max_rate}" \
-  servo_strategy:="${strategy}" servo_node:="${servo_node}" snapshot_dir:="${out}/specimen" \
+  servo_strategy:="${strategy}" servo_node:="${servo_node}" "${snapshot_args[@]}" \
   "${record_args[@]}" ${RIG_ARGS:-} \
   >"${ROS_HOME}/rig.log" 2>&1 </dev/null &
 launch_pid=$!
@@ -286,6 +290,9 @@ fi
 if [[ -f "${out}/specimen/snapshots.csv" ]]; then
   /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" &
   plot_pids+=($!)
+if [[ "${SNAPSHOTS:-1}" != 0 && -f "${out}/specimen/snapshots.csv" ]]; then
+  /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" ||
+    echo "[rig] warning: specimen_section failed" >&2
 fi
 for p in "${plot_pids[@]}"; do
   wait_for "${p}" || echo "[rig] warning: a plot tool failed" >&2

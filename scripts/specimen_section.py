@@ -36,6 +36,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import EllipseCollection, LineCollection  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
 
 AXES = {"x": 0, "y": 1, "z": 2}
 MAX_WIDTH_PT = 3.0  # line width of the largest normal force
@@ -134,32 +135,34 @@ def periodic_images(lengths_2d):
     return [(su * lu, sv * lv) for su in (-1, 0, 1) for sv in (-1, 0, 1)]
 
 
-def draw(ax, p, c, plane, fmax, title):
+def draw(ax, p, c, plane, fmax, title, limits):
     h = p[("FieldData", "cell_matrix")].reshape(3, 3)
     cu, cv, w, hgt, ang, idl, (u_ax, v_ax, lengths) = section_of_particles(p, plane, h)
     lu, lv = lengths[u_ax], lengths[v_ax]
     seg, fn, sliding = chains_near_plane(p, c, plane, h)
+    cell = Rectangle((0, 0), lu, lv, transform=ax.transData)  # draw inside the cell only
     for du, dv in periodic_images((lu, lv)):
         for mask, color in ((~idl, "0.78"), (idl, "#f4a259")):
             if np.any(mask):
                 ax.add_collection(EllipseCollection(w[mask], hgt[mask], ang[mask], units="xy",
                                                     offsets=np.column_stack([cu[mask] + du, cv[mask] + dv]),
                                                     offset_transform=ax.transData, facecolors=color,
-                                                    edgecolors="0.45", linewidths=0.3))
+                                                    edgecolors="0.45", linewidths=0.3)).set_clip_path(cell)
         if len(seg):
             shifted = seg + np.array([du, dv])
             widths = MAX_WIDTH_PT * fn / fmax if fmax > 0 else np.zeros_like(fn)
             colors = np.where(sliding[:, None], [[0.85, 0.1, 0.1, 1.0]], [[0.0, 0.0, 0.0, 1.0]])
-            ax.add_collection(LineCollection(shifted, linewidths=widths, colors=colors, capstyle="round"))
-    ax.plot([0, lu, lu, 0, 0], [0, 0, lv, lv, 0], color="tab:blue", lw=1.0)
-    ax.set_xlim(0, lu)
-    ax.set_ylim(0, lv)
+            ax.add_collection(LineCollection(shifted, linewidths=widths, colors=colors,
+                                             capstyle="round")).set_clip_path(cell)
+    ax.plot([0, lu, lu, 0, 0], [0, 0, lv, lv, 0], color="tab:blue", lw=1.0)  # the periodic cell
+    ax.set_xlim(0, limits[0])
+    ax.set_ylim(0, limits[1])
     ax.set_aspect("equal")
     names = "xyz"
     ax.set_xlabel(f"{names[u_ax]} [mm]")
     ax.set_ylabel(f"{names[v_ax]} [mm]")
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v * 1e3:.0f}"))
-    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v * 1e3:.0f}"))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v * 1e3:g}"))
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v * 1e3:g}"))
     ax.set_title(title, fontsize=9)
     return len(cu), len(seg)
 
@@ -181,9 +184,14 @@ def render(directory, out_png, plane="y", indices=None):
     snaps = [load_snapshot(directory, int(rows[k]["index"])) for k in indices]
     fmax = max((float(np.max(c[("CellData", "normal_force")])) if ("CellData", "normal_force") in c and
                 c[("CellData", "normal_force")].size else 0.0) for _, c in snaps)
+    # one length scale for all panels: the largest cell extent of the section plane's axes
+    n_ax = AXES[plane]
+    u_ax, v_ax = [a for a in range(3) if a != n_ax]
+    diag = [np.diag(p[("FieldData", "cell_matrix")].reshape(3, 3)) for p, _ in snaps]
+    limits = (max(d[u_ax] for d in diag), max(d[v_ax] for d in diag))
     fig, axes = plt.subplots(1, len(snaps), figsize=(5.2 * len(snaps), 5.6), squeeze=False)
     for ax, k, (p, c) in zip(axes[0], indices, snaps):
-        draw(ax, p, c, plane, fmax, describe(rows[k], p))
+        draw(ax, p, c, plane, fmax, describe(rows[k], p), limits)
     fig.suptitle(f"section through the cell centre normal to {plane}: particles cut by the plane "
                  f"(orange: idle), force chains within one mean radius\n(line width proportional to the normal "
                  f"force, widest = {fmax:.3g} N; red: sliding)", fontsize=9)

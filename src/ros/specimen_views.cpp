@@ -40,7 +40,9 @@ void SpecimenViews::on_load(const dem::Simulation& sim, std::int64_t scene_inter
   if (!interval_given_) interval_ = scene_interval;
   base_step_ = sim.steps();
   last_block_ = 0;
-  if (series_) snapshot(sim, "load " + source);
+  // A protocol goal reloads the file the node started with: one snapshot per step.
+  if (series_ && series_->last_step() != sim.steps())
+    snapshot(sim, "load " + source.substr(source.find_last_of('/') + 1));
   if (markers_) publish_markers(sim);
 }
 

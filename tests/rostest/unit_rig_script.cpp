@@ -3,7 +3,8 @@
 //   OUT=<tmp> launch_equiv_scripts/run_triaxial.sh tests/data/protocols/rig_script_mini.yaml
 // Asserts what the issue asks of the bag and the output folder:
 //   - exit code 0, summary.json with verdict completed, results.h5, the plots
-//     of scripts/bag_report.py and its CSV;
+//     of scripts/bag_report.py and its CSV, the specimen snapshots and the
+//     specimen section picture;
 //   - the bag (rig_*.bag, split files) holds every rig topic; the five state
 //     topics have exactly one message per control tick of the test (the
 //     summary's `ticks`), consecutive ticks, strictly rising simulation-time
@@ -120,7 +121,8 @@ TEST_F(RigScript, CompletesAndLeavesOneOutputFolder) {
   EXPECT_GT(ticks_, 100u);
   for (const char* f : {"results.h5", "summary.json", "plots/rig_series.csv", "plots/q_eps_a.png",
                         "plots/eps_v_eps_a.png", "plots/q_p_stress_path.png", "plots/e_log_p.png",
-                        "plots/I_mom_eps_a.png", "plots/kinetic_energy_eps_a.png", "ros_home"})
+                        "plots/I_mom_eps_a.png", "plots/kinetic_energy_eps_a.png", "ros_home",
+                        "specimen_section.png", "specimen/particles.pvd", "specimen/contacts.pvd"})
     EXPECT_TRUE(fs::exists(out_ / f)) << f;
   EXPECT_TRUE(fs::exists(out_ / "checkpoints/after_0_consolidation.h5"));
   EXPECT_TRUE(fs::exists(out_ / "checkpoints/after_1_shear.h5"));
