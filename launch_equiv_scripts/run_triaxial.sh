@@ -287,12 +287,9 @@ if [[ "${record}" != 0 ]] && compgen -G "${out}/rig*.bag" >/dev/null; then
   /usr/bin/python3 scripts/bag_report.py "${out}"/rig*.bag --out "${out}/plots" &
   plot_pids+=($!)
 fi
-if [[ -f "${out}/specimen/snapshots.csv" ]]; then
+if [[ "${SNAPSHOTS:-1}" != 0 && -f "${out}/specimen/snapshots.csv" ]]; then
   /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" &
   plot_pids+=($!)
-if [[ "${SNAPSHOTS:-1}" != 0 && -f "${out}/specimen/snapshots.csv" ]]; then
-  /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" ||
-    echo "[rig] warning: specimen_section failed" >&2
 fi
 for p in "${plot_pids[@]}"; do
   wait_for "${p}" || echo "[rig] warning: a plot tool failed" >&2
