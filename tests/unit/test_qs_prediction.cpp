@@ -7,9 +7,11 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "virtual_triaxial/quasi_static/inertial_number.h"
 #include "virtual_triaxial/quasi_static/qs_rate_prediction.h"
+#include "virtual_triaxial/quasi_static/qs_warnings.h"
 #include "virtual_triaxial/quasi_static/run_plan.h"
 
 namespace qs = vt::quasi_static;
@@ -116,4 +118,38 @@ TEST(QsPrediction, BadArgumentsAreNamed) {
   EXPECT_TRUE(qs::parse_qs_damping("nd", m));
   EXPECT_EQ(m, qs::QsDamping::ND);
   EXPECT_FALSE(qs::parse_qs_damping("cundall", m));
+}
+
+// Item 6 of issue 15: warnings where the dissertation advises against an
+// input, each naming the protocol field; none for the chapter-6 settings.
+TEST(QsPrediction, WarningsFollowTheDissertationsAdvice) {
+  qs::QsInputs in;
+  in.model = qs::QsDamping::OD;
+  in.damping_ratio = 0.003;
+  in.time_step_ratio = 0.3;
+  in.shear_eps_prime = 1e-7;
+  in.predicted_eps_prime_qs = 1.2e-7;
+  EXPECT_TRUE(qs::qs_warnings(in).empty());
+  auto starts = [](const std::vector<std::string>& w, const std::string& p) {
+    return w.size() == 1 && w[0].rfind(p, 0) == 0;
+  };
+  auto x = in;
+  x.damping_ratio = 0.0;
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "damping.ratio: xi = 0"));
+  x.damping_ratio = 0.0015;   // half the OD optimum
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "damping.ratio: xi = 0.15 % is below the OD optimum"));
+  x.model = qs::QsDamping::ND;
+  x.damping_ratio = 0.003;    // below 2/3 of ND's 0.5 %
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "damping.ratio: xi = 0.3 % is below the ND optimum"));
+  x = in;
+  x.damping_ratio = 0.02;
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "damping.ratio: xi = 2 % is 6.7x the optimum"));
+  x = in;
+  x.time_step_ratio = 0.1;
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "time_step_ratio: c_t = 0.1 is far from 0.3"));
+  x = in;
+  x.shear_eps_prime = 1e-5;
+  EXPECT_TRUE(starts(qs::qs_warnings(x), "stages: the shear rate eps' = 1e-05 is 83.3x"));
+  x.quasi_static_wanted = false;
+  EXPECT_TRUE(qs::qs_warnings(x).empty());
 }
