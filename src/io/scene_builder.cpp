@@ -1,9 +1,13 @@
 #include "virtual_triaxial/io/scene_builder.h"
 
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 #include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/material_scaling.h"
 #include "virtual_triaxial/io/sample_file.h"
+#include "virtual_triaxial/io/scene_error.h"
 
 namespace vt::io {
 
@@ -25,6 +29,32 @@ dem::SimulationSettings settings_from_scene(const SceneConfig& scene) {
   s.limits = scene.stability;
   return s;
 }
+
+namespace {
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+// `material.*` beside a sample_file: density and Young's modulus are scaled
+// into the sample (dem/material_scaling.h: every dimensionless quantity
+// kept), a different Poisson ratio is refused (the stored tangential springs
+// belong to the sample's contact law). Never silently ignored.
+void apply_material_keys(const SceneConfig& scene, dem::SimulationState& st) {
+  const MaterialKeysGiven& g = scene.material_given;
+  const dem::Material& m = st.settings.material;
+  if (g.poisson_ratio && scene.material.poisson != m.poisson)
+    throw SceneError("material.poisson_ratio",
+                     "the sample '" + scene.sample_file + "' was prepared with nu = " + num(m.poisson) +
+                         " and its contact springs belong to it; prepare a new sample with nu = " +
+                         num(scene.material.poisson) + " (triax_prepare --poisson-ratio) or leave the key out");
+  dem::scale_material(st, g.density ? scene.material.density : m.density,
+                      g.young_modulus ? scene.material.young : m.young);
+}
+
+}  // namespace
 
 dem::Simulation build_simulation(const SceneConfig& scene) {
   const dem::SimulationSettings settings = settings_from_scene(scene);
@@ -57,6 +87,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
     }
     case ParticleSource::SampleFile: {
       dem::SimulationState st = read_sample(scene.sample_file);
+      apply_material_keys(scene, st);
       st.settings.material.friction = scene.material.friction;
       st.settings.damping = scene.damping;
       st.settings.time_step_ratio = scene.time_step_ratio;

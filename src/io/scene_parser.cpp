@@ -57,8 +57,11 @@ void require_positive_components(const dem::Vec3& v, const std::string& path) {
 
 // ---- material ------------------------------------------------------------------
 
-void parse_material(const YAML::Node& node, dem::Material& m) {
+void parse_material(const YAML::Node& node, dem::Material& m, MaterialKeysGiven& given) {
   const Section s(node, "material", {"density", "young_modulus", "poisson_ratio", "friction"});
+  given.density = s.has("density");
+  given.young_modulus = s.has("young_modulus");
+  given.poisson_ratio = s.has("poisson_ratio");
   m.density = positive(s, "density", m.density);
   m.young = positive(s, "young_modulus", m.young);
   m.poisson = s.number_or("poisson_ratio", m.poisson);
@@ -361,7 +364,7 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   const Section top(doc, "",
                     {"material", "particles", "cell", "damping", "time_step_ratio", "stability",
                      "stages", "output", "control"});
-  parse_material(top.get("material"), cfg.material);
+  parse_material(top.get("material"), cfg.material, cfg.material_given);
   parse_particles(top.required("particles"), source_path, cfg);
   parse_cell(top.get("cell"), cfg);
   parse_damping(top.get("damping"), cfg.damping);

@@ -3,9 +3,13 @@
 //                 distribution, seed, aspect ratios and initial void ratio;
 //   list          the explicit particles in a cell of the given lengths;
 //   sample_file   a saved sample, continued exactly. Material (density,
-//                 modulus, Poisson ratio) comes from the sample because the
-//                 particle masses were made with it; friction, damping, c_t
-//                 and stability limits come from the scene.
+//                 modulus, Poisson ratio) comes from the sample unless the
+//                 scene gives `material.density` / `material.young_modulus`:
+//                 those are scaled into the sample keeping every
+//                 dimensionless quantity (dem/material_scaling.h, chapter 3);
+//                 a `material.poisson_ratio` other than the sample's is
+//                 refused naming the field. Friction, damping, c_t and
+//                 stability limits come from the scene.
 #pragma once
 
 #include "virtual_triaxial/dem/simulation.h"

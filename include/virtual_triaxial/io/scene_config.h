@@ -65,9 +65,17 @@ struct ControlSpec {
   double quasi_static_threshold = 1e-3;    ///< I_QS of the shear summary
 };
 
+/// Which `material` keys the YAML gave (beside a sample_file they change
+/// the loaded sample: density and modulus are scaled in, a different
+/// Poisson ratio is refused; see scene_builder.h).
+struct MaterialKeysGiven {
+  bool density = false, young_modulus = false, poisson_ratio = false;
+};
+
 struct SceneConfig {
   std::string source_path;             ///< the YAML file (for relative paths)
   dem::Material material;
+  MaterialKeysGiven material_given;
   ParticleSource source = ParticleSource::Distribution;
   DistributionSpec distribution;
   std::vector<ParticleSpec> list;
