@@ -54,7 +54,9 @@ def write_protocol(sample, rate, path):
     shear = [s for s in doc["stages"] if s["type"] == "drained_shear"][0]
     shear.pop("strain_rate", None)
     shear["strain_rate_dimensionless"] = float(rate)
-    shear["stop"] = {"axial_strain": FINAL_STRAIN, "softening": 0.3}
+    # no softening stop: at slow rates the first q of a shear is a few Pa and
+    # its noise met "30 % below the peak" after 30 steps (loose_1000, 4e-8)
+    shear["stop"] = {"axial_strain": FINAL_STRAIN}
     doc["control"]["quasi_static_threshold"] = I_QS
     doc["output"]["progress_seconds"] = 30.0
     os.makedirs(os.path.dirname(path), exist_ok=True)
@@ -96,6 +98,39 @@ def run_test(sample, rate, out):
         json.dump(s, f)
     log("%s eps' %.0e: phi_peak %.2f deg, mean I_mom %.3g, %.0f s" %
         (sample, rate, s["phi_peak_deg"], s["mean_moment_index_to_peak"], wall))
+    return s
+
+
+def shear_summary_from_series(results, consolidation_steps):
+    """phi_peak, eps_peak and mean I_mom to the peak from a results file's
+    recorded samples, by the rule of protocol/shear_summary.cpp (first
+    maximum of phi; I_mom averaged over the samples up to and including it).
+    Used for a reference run that had to be cut short (--cut-references);
+    checked against the summaries of the finished runs."""
+    import h5py
+    import numpy as np
+    with h5py.File(results, "r") as f:
+        g = f[list(f.keys())[0]]["series"]
+        step = np.array(g["step"])   # the sample's global step count; the first
+        # row is one control tick (10 steps) after the start of the test
+        m = step > step[0] - 10 + consolidation_steps
+        phi = np.array(g["phi"])[m]
+        imom = np.array(g["moment_index"])[m]
+        eps = np.array(g["strain"])[m, 2]
+    k = int(np.argmax(phi))
+    return {"phi_peak_deg": math.degrees(phi[k]), "eps_peak": float(eps[k]),
+            "mean_moment_index_to_peak": float(imom[:k + 1].mean()), "eps_end": float(eps[-1])}
+
+
+def cut_reference(sample, rate, out, consolidation_steps, wall_s):
+    """Summary of a reference run stopped before its final strain."""
+    d = os.path.join(out, sample, "runs", "eps_%.0e" % rate)
+    s = shear_summary_from_series(os.path.join(d, "results.h5"), consolidation_steps)
+    s.update({"eps_prime": rate, "wall_measured_s": wall_s, "cut_short": True, "e0": float("nan"),
+              "steps": None, "load_average_1min_at_end": os.getloadavg()[0],
+              "stages": [{"steps": consolidation_steps}]})
+    with open(os.path.join(d, "summary.json"), "w") as f:
+        json.dump(s, f)
     return s
 
 
@@ -163,6 +198,11 @@ def plots(sample, out, runs, fit, ref):
             with h5py.File(r["results"], "r") as f:
                 eps, q = shear_curve(f, r["stages"][0]["steps"])
             ax.plot(100 * eps, q / 1e3, label="eps' = %.0e" % r["eps_prime"])
+            keep = slice(None, None, max(1, len(eps) // 400))   # at most ~400 rows per run
+            with open(os.path.join(d, "q_eps_a_eps_%.0e.csv" % r["eps_prime"]), "w") as f:
+                f.write("eps_a,q_pa\n")
+                for e_, q_ in zip(eps[keep], q[keep]):
+                    f.write("%.6g,%.6g\n" % (e_, q_))
         ax.set_xlabel("axial strain eps_a [%]")
         ax.set_ylabel("q [kPa]")
         ax.set_title(sample)
@@ -180,7 +220,7 @@ def shear_curve(f, consolidation_steps):
     import numpy as np
     g = f[list(f.keys())[0]]["series"]
     step = np.array(g["step"])
-    m = step > consolidation_steps
+    m = step > step[0] - 10 + consolidation_steps
     return np.array(g["strain"])[m, 2], np.array(g["q"])[m]
 
 
@@ -189,6 +229,10 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "reports", "quasi_static"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--samples", default=",".join(SAMPLES))
+    ap.add_argument("--no-reference", default="", help="comma-separated samples whose reference run is skipped")
+    ap.add_argument("--cut-references", action="store_true",
+                    help="a reference run stopped early (killed) is evaluated from its recorded samples up to where "
+                         "it got, instead of being run again")
     a = ap.parse_args()
     samples = a.samples.split(",")
     for s in samples:
@@ -217,25 +261,49 @@ def main():
             log("%s: eq. 73 eps'_QS = %.3g, eq. 74 phi_QS = %.2f deg" %
                 (s, fits[s]["eps_prime_qs_eq73"], fits[s]["phi_qs_eq74_deg"]))
         ref_rate = {s: round_down(fits[s]["eps_prime_qs_eq73"]) for s in samples}
-        ref_futures = {s: pool.submit(run_test, s, ref_rate[s], a.out) for s in samples}
+        ref_futures = {}
         for s in samples:
-            refs[s] = ref_futures[s].result()
+            d = os.path.join(a.out, s, "runs", "eps_%.0e" % ref_rate[s])
+            cons = fast[(s, FAST[0])]["stages"][0]["steps"]   # the consolidation does not depend on the rate
+            if s in a.no_reference.split(","):
+                refs[s] = None
+                log("%s: no reference run (--no-reference)" % s)
+            elif a.cut_references and not os.path.exists(os.path.join(d, "summary.json")) and \
+                    os.path.exists(os.path.join(d, "results.h5")):
+                wall = os.path.getmtime(os.path.join(d, "results.h5")) - os.path.getmtime(os.path.join(d, "protocol.yaml"))
+                refs[s] = cut_reference(s, ref_rate[s], a.out, cons, wall)
+                log("%s: reference at %.0e cut at eps_a = %.4f" % (s, ref_rate[s], refs[s]["eps_end"]))
+            else:
+                ref_futures[s] = pool.submit(run_test, s, ref_rate[s], a.out)
+        # the reference rate is chosen even when it is not run
+        planned = {s: ref_rate[s] for s in samples}
+        for s, fu in ref_futures.items():
+            refs[s] = fu.result()
+        # the series reproduce the summaries (the rule used for cut references)
+        for (s, r), run in fast.items():
+            x = shear_summary_from_series(os.path.join(a.out, s, "runs", "eps_%.0e" % r, "results.h5"),
+                                          run["stages"][0]["steps"])
+            assert abs(x["mean_moment_index_to_peak"] / run["mean_moment_index_to_peak"] - 1) < 1e-6, (s, r)
+            assert abs(x["phi_peak_deg"] - run["phi_peak_deg"]) < 1e-6, (s, r)
     for s in samples:
-        runs = [fast[(s, r)] for r in FAST] + [refs[s]]
+        runs = [fast[(s, r)] for r in FAST] + ([refs[s]] if refs[s] else [])
         with open(os.path.join(a.out, s, "runs.csv"), "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(["eps_prime", "mean_i_mom_to_peak", "phi_peak_deg", "eps_peak", "e0", "steps",
                          "wall_s", "load_average_1min_at_end", "role"])
             for r in runs:
                 w.writerow([r["eps_prime"], r["mean_moment_index_to_peak"], r["phi_peak_deg"], r["eps_peak"],
-                            r["e0"], r["steps"], "%.1f" % r["wall_measured_s"],
+                            r.get("e0"), r.get("steps"), "%.1f" % r["wall_measured_s"],
                             "%.1f" % r["load_average_1min_at_end"], "reference" if r is refs[s] else "fast"])
+        # (cut references carry no e0/steps: see reference_cut_at_eps_a)
         fast_wall = sum(fast[(s, r)]["wall_measured_s"] for r in FAST)
-        ref = refs[s]
         fit = fits[s]
+        nan = float("nan")
+        ref = refs[s] or {"eps_prime": planned[s], "mean_moment_index_to_peak": nan, "phi_peak_deg": nan,
+                          "eps_peak": nan, "wall_measured_s": nan}
         row = {
             "sample": s,
-            "e0": ref["e0"],
+            "e0": fast[(s, FAST[0])]["e0"],
             "dispersity_index": predicted[s]["dispersity_index"],
             "eps_prime_qs_eq84": predicted[s]["eps_prime_qs_eq84"],
             "eps_prime_qs_eq72": predicted[s]["eps_prime_qs_eq72"],
@@ -251,15 +319,17 @@ def main():
             "reference_quasi_static": ref["mean_moment_index_to_peak"] < I_QS,
             "reference_phi_peak_deg": ref["phi_peak_deg"],
             "reference_eps_peak": ref["eps_peak"],
+            "reference_cut_at_eps_a": ref.get("eps_end") if ref.get("cut_short") else None,
+            "reference_run": refs[s] is not None,
             "phi_error_eq74_deg": fit["phi_qs_eq74_deg"] - ref["phi_peak_deg"],
             "fast_wall_s": fast_wall,
             "reference_wall_s": ref["wall_measured_s"],
-            "fast_over_reference_wall": fast_wall / ref["wall_measured_s"],
+            "fast_over_reference_wall": fast_wall / ref["wall_measured_s"] if refs[s] else nan,
         }
         rows.append(row)
         for r in runs:
             r["results"] = os.path.join(a.out, s, "runs", "eps_%.0e" % r["eps_prime"], "results.h5")
-        plots(s, a.out, runs, fit, ref)
+        plots(s, a.out, runs, fit, refs[s])
     with open(os.path.join(a.out, "summary.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
