@@ -4,12 +4,21 @@
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
 //               [--no-sleep] [--sums auto|pair-loop|gather]
+//   triax_bench --sample FILE [--tile KxKyKz] --threads T [...]
+//
+// --sample FILE (issue 13, the default of bench/run_matrix.sh): time a
+// prepared sample file (e.g. config/samples/dense_1000.h5, e 0.61, 5.3
+// contacts per particle, 100 kPa) instead of the bench's own packing, tiled
+// periodically kx x ky x kz times (dem/periodic_tiling.h: same void ratio,
+// contacts per particle and stress; --tile 5x5x4 gives 100 000 particles),
+// with the sample's own material, damping and c_t. No preparation.
 //
 // --shape spheroid: prolate spheroids of aspect ratio K (default 1.2) whose
 // nominal (equal-volume) radii are the sphere radii below (CloudRequest::
 // aspect_ratio); everything else is the same, so the cost per particle-step
 // compares directly with the sphere run.
 //
+// Own packing (without --sample; the loose "extra" of the README):
 // Preparation (all hardware threads, progress on stderr), material rho 2650,
 // E 70 GPa, nu 0.3, mu 0.5, c_t 0.3, OD damping xi = 0.02:
 //   1. radii uniform in [0.8, 1.2] mm; dem::generate_cloud at void ratio 2.0;
@@ -77,8 +86,10 @@
 #include <vector>
 
 #include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
+#include "virtual_triaxial/io/sample_file.h"
 
 using namespace vt::dem;
 
@@ -108,7 +119,9 @@ int usage(const char* msg) {
                "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
                "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
                "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n"
-               "  --sums auto|pair-loop|gather: one thread, where forces are summed (A/B)\n";
+               "  --sums auto|pair-loop|gather: one thread, where forces are summed (A/B)\n"
+               "  --sample FILE [--tile KxKyKz]: time a prepared sample file tiled periodically\n"
+               "  (instead of --particles; no preparation)\n";
   return 2;
 }
 
@@ -138,6 +151,20 @@ double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// "K" or "KxKyKz", factors in [1, 100].
+bool parse_tile(const char* s, int out[3]) {
+  int k[3] = {0, 0, 0};
+  char tail = 0;
+  const int got = std::sscanf(s, "%dx%dx%d%c", &k[0], &k[1], &k[2], &tail);
+  if (got == 1 && std::sscanf(s, "%d%c", &k[0], &tail) == 1) k[1] = k[2] = k[0];
+  else if (got != 3) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (k[a] < 1 || k[a] > 100) return false;
+    out[a] = k[a];
+  }
+  return true;
 }
 
 double seconds_since(Clock::time_point t) {
@@ -210,7 +237,7 @@ bool run_measured(Simulation& sim, int n) {
 // cached state equals a freshly prepared one bit for bit as long as the
 // preparation and the physics of the core are unchanged; bump kCacheVersion
 // when either changes.
-constexpr std::uint64_t kCacheVersion = 3;  // 3: ContactHistory carries the spheroid solver cache
+constexpr std::uint64_t kCacheVersion = 4;  // 4: SimulationSettings/State carry the time-step basis
 
 template <class T>
 void put(std::FILE* f, const T& v) {
@@ -246,7 +273,7 @@ bool save_state(const std::string& path, const SimulationState& s, std::int64_t 
   put_vec(f, p.omega); put_vec(f, p.orientation); put_vec(f, p.material);
   put(f, s.h); put(f, s.h_reference); put(f, s.velocity_gradient);
   put_vec(f, s.contacts);
-  put(f, s.time); put(f, s.step); put(f, s.energy); put(f, s.settings); put(f, prep_steps);
+  put(f, s.time); put(f, s.step); put(f, s.time_step); put(f, s.contact_critical_step); put(f, s.contact_refresh_virial); put(f, s.energy); put(f, s.settings); put(f, prep_steps);
   put(f, prep_seconds);
   const bool ok = std::fclose(f) == 0;
   return ok && std::rename(tmp.c_str(), path.c_str()) == 0;
@@ -263,7 +290,7 @@ bool load_state(const std::string& path, SimulationState& s, std::int64_t& prep_
                   get_vec(f, p.inertia) && get_vec(f, p.frac) && get_vec(f, p.velocity) &&
                   get_vec(f, p.omega) && get_vec(f, p.orientation) && get_vec(f, p.material) &&
                   get(f, s.h) && get(f, s.h_reference) && get(f, s.velocity_gradient) &&
-                  get_vec(f, s.contacts) && get(f, s.time) && get(f, s.step) && get(f, s.energy) &&
+                  get_vec(f, s.contacts) && get(f, s.time) && get(f, s.step) && get(f, s.time_step) && get(f, s.contact_critical_step) && get(f, s.contact_refresh_virial) && get(f, s.energy) &&
                   get(f, s.settings) && get(f, prep_steps) && get(f, prep_seconds);
   std::fclose(f);
   return ok;
@@ -329,6 +356,7 @@ std::int64_t prepare(Simulation& sim, Clock::time_point t_start) {
 
 int main(int argc, char** argv) {
   long long n = -1, threads = -1, steps = -1, seed = 1;
+  std::unique_ptr<Simulation> preloaded;
   bool sort = true;
   double skin_ratio = -1.0;
   std::string cache_dir;
@@ -336,6 +364,8 @@ int main(int argc, char** argv) {
   bool sleep = true;
   std::string sums = "auto";
   double aspect = 1.2;
+  std::string sample;
+  int tile[3] = {1, 1, 1};
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
     const char* v = a + 1 < argc ? argv[a + 1] : nullptr;
@@ -343,7 +373,8 @@ int main(int argc, char** argv) {
       if (!parse_int(v, 100, n)) return usage("--particles needs an integer >= 100");
       ++a;
     } else if (k == "--threads") {
-      if (!parse_int(v, 1, threads)) return usage("--threads needs an integer >= 1");
+      if (v && std::string(v) == "auto") threads = 0;  // ThreadGovernor up to every core
+      else if (!parse_int(v, 1, threads)) return usage("--threads needs an integer >= 1 or auto");
       ++a;
     } else if (k == "--steps") {
       if (!parse_int(v, 1, steps)) return usage("--steps needs an integer >= 1");
@@ -371,6 +402,13 @@ int main(int argc, char** argv) {
       aspect = v ? std::strtod(v, &end) : -1.0;
       if (!v || *end != '\0' || !(aspect >= 1.0 && aspect < 10.0)) return usage("--aspect needs a number in [1, 10)");
       ++a;
+    } else if (k == "--sample") {
+      if (!v || !*v) return usage("--sample needs a sample file");
+      sample = v;
+      ++a;
+    } else if (k == "--tile") {
+      if (!v || !parse_tile(v, tile)) return usage("--tile needs K or KxKyKz with factors in [1, 100]");
+      ++a;
     } else if (k == "--no-sort") {
       sort = false;
     } else if (k == "--no-sleep") {
@@ -386,22 +424,35 @@ int main(int argc, char** argv) {
       return usage(("unknown argument '" + k + "'").c_str());
     }
   }
-  if (n < 0 || threads < 0) return usage("--particles and --threads are required");
+  if (!sample.empty()) {
+    if (n >= 0) return usage("--sample and --particles exclude each other");
+    try {
+      SimulationState st = tile_periodic(vt::io::read_sample(sample), tile[0], tile[1], tile[2]);
+      n = static_cast<long long>(st.particles.size());
+      spheroids = st.particles.has_spheroids();
+      sort = false;
+      preloaded = std::make_unique<Simulation>(st);
+    } catch (const std::exception& e) {
+      std::cerr << "triax_bench: " << e.what() << "\n";
+      return 2;
+    }
+  }
+  if (n < 0 || threads < 0) return usage("--particles (or --sample) and --threads are required");
   if (steps < 0) steps = std::max<long long>(200, static_cast<long long>(3e7 / static_cast<double>(n)));
 
   // ---- preparation, all hardware threads -------------------------------------
   omp_set_num_threads(omp_get_num_procs());
   const auto t_prep = Clock::now();
-  std::unique_ptr<Simulation> sim;
+  std::unique_ptr<Simulation> sim = std::move(preloaded);
   std::int64_t prep_steps = 0;
   double prep_seconds = 0.0;
   bool cached = false;
   const std::string cache_file =
-      cache_dir.empty() ? std::string()
+      cache_dir.empty() || !sample.empty() ? std::string()
                         : cache_dir + "/triax_bench_n" + std::to_string(n) + "_seed" + std::to_string(seed) +
                               (sort ? "_sorted" : "_unsorted") +
                               (spheroids ? "_spheroid" + std::to_string(aspect) : std::string()) + ".state";
-  if (!cache_file.empty()) {
+  if (!sim && !cache_file.empty()) {
     SimulationState st;
     if (load_state(cache_file, st, prep_steps, prep_seconds)) {
       sim = std::make_unique<Simulation>(st);
@@ -443,13 +494,14 @@ int main(int argc, char** argv) {
   malloc_trim(0);
 
   // ---- timing, T threads -----------------------------------------------------
-  omp_set_num_threads(static_cast<int>(threads));
+  omp_set_num_threads(threads > 0 ? static_cast<int>(threads) : omp_get_num_procs());
   if (skin_ratio > 0.0) {
     SimulationState st = sim->state();
     st.settings.skin_ratio = skin_ratio;
     sim = std::make_unique<Simulation>(st);
   }
   sim->set_sleep_apart_pairs(sleep);
+  if (threads == 0) sim->set_thread_governor(ThreadGovernor(omp_get_num_procs()));
   if (sums == "pair-loop") sim->set_pair_loop_sum_threshold(0);
   if (sums == "gather") sim->set_pair_loop_sum_threshold(SIZE_MAX);
   const double shear = kShearRate / sim->time_scale().t0;
@@ -473,9 +525,13 @@ int main(int argc, char** argv) {
 
   const double np = static_cast<double>(n);
   std::printf("particles: %lld\n", n);
-  std::printf("threads: %lld\n", threads);
+  if (threads > 0) std::printf("threads: %lld\n", threads);
+  else
+    std::printf("threads: auto (%lld steps on 1, %lld on %d)\n", static_cast<long long>(sim->thread_governor()->steps_one()),
+                static_cast<long long>(sim->thread_governor()->steps_max()), sim->thread_governor()->max_threads());
   std::printf("steps: %lld\n", steps);
   std::printf("spatial_sort: %s\n", sort ? "yes" : "no");
+  if (!sample.empty()) std::printf("sample: %s tiled %dx%dx%d\n", sample.c_str(), tile[0], tile[1], tile[2]);
   std::printf("shape: %s\n", spheroids ? "spheroid" : "sphere");
   if (spheroids) std::printf("aspect_ratio: %g\n", aspect);
   std::printf("preparation_seconds: %.2f%s\n", prep_seconds, cached ? " (when cached)" : "");

@@ -1,6 +1,9 @@
 #include "virtual_triaxial/dem/simulation.h"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -21,6 +24,14 @@ Simulation::Simulation(const SimulationState& s)
   steps_ = s.step;
   energy_ = s.energy;
   initialize();
+  if (settings_.time_step_basis == TimeStepBasis::Contacts && s.time_step > 0.0 && s.contact_critical_step > 0.0) {
+    time_scale_.dt = s.time_step;  // continue exactly with the step in use
+    time_scale_.ct = s.time_step / time_scale_.t0;
+    critical_.dt = s.contact_critical_step;
+    refresh_virial_ = s.contact_refresh_virial;
+    dt_pending_ = false;
+    update_damping();
+  }
   const std::size_t missing = list_.restore(particles_, s.contacts);
   if (missing > 0)
     throw std::runtime_error("contacts: " + std::to_string(missing) +
@@ -54,9 +65,22 @@ void Simulation::initialize() {
   time_scale_ = TimeScale::from(particles_.min_minor_semi_axis(), settings_.material.density,
                                 settings_.material.young, settings_.time_step_ratio);
   list_.set_skin(settings_.skin_ratio * time_scale_.l0);
+  if (settings_.time_step_basis == TimeStepBasis::Contacts) {
+    auto_step_ = ContactTimeStep(settings_.time_step_safety, settings_.time_step_max_ratio);
+    dt_pending_ = true;
+    // The velocities are those of the last half step (what the integrator's
+    // max_speed2 saw), so a restarted run takes the same impact bound.
+    double v2 = 0.0;
+    for (std::size_t i = 0; i < particles_.size(); ++i) {
+      v2 = std::max(v2, norm2(particles_.velocity[i]));
+      if (particles_.mass[i] < particles_.mass[lightest_]) lightest_ = i;
+    }
+    impact_v2_ = v2;
+  }
   max_bounding_ = particles_.max_bounding_radius();
   for (std::size_t i = 0; i < particles_.size(); ++i)
     max_elongation_ = std::max(max_elongation_, particles_.semi_axes[i].x - particles_.semi_axes[i].y);
+  if (settings_.time_step_basis == TimeStepBasis::Contacts) impact_u_ = impact_speed(impact_v2_);
   use_huge_pages();
   list_.build(particles_, cell_);
   update_damping();
@@ -94,21 +118,65 @@ void Simulation::set_friction(double mu) {
 
 void Simulation::set_time_step_ratio(double ct) {
   settings_.time_step_ratio = ct;
+  const double dt = time_scale_.dt;
   time_scale_ = TimeScale::from(particles_.min_minor_semi_axis(), settings_.material.density,
                                 settings_.material.young, ct);
+  if (settings_.time_step_basis == TimeStepBasis::Contacts) time_scale_.dt = dt;  // c_t unused there
+  update_damping();
+}
+
+double Simulation::impact_speed(double max_speed2) const {
+  return 2.0 * std::sqrt(max_speed2) + 2.0 * max_bounding_ * frobenius_distance(cell_.velocity_gradient(), 0.0);
+}
+
+void Simulation::refresh_time_step(bool contacts) {
+  if (contacts) critical_ = ContactTimeStep::critical_step(particles_, list_, law_);
+  const std::size_t i = lightest_;
+  const Vec3& in = particles_.inertia[i];
+  const double a = particles_.semi_axes[i].x;
+  critical_.impact = ContactTimeStep::impact_critical_step(
+      impact_u_, particles_.mass[i], particles_.radius[i], a * a / std::min(in.x, std::min(in.y, in.z)), law_,
+      settings_.material.young, settings_.material.density, time_scale_.t0, time_scale_.l0);
+  const double dt = auto_step_.step(critical_, critical_.impact, time_scale_.t0);
+  dt_pending_ = false;
+  if (dt == time_scale_.dt) return;
+  time_scale_.dt = dt;
+  time_scale_.ct = dt / time_scale_.t0;
   update_damping();
 }
 
 bool Simulation::step(bool measure) {
+  if (!governor_ || governor_->max_threads() == 1) return advance(measure);
+  using Clock = std::chrono::steady_clock;
+  omp_set_num_threads(governor_->threads());
+  const Clock::time_point t = Clock::now();
+  const bool ok = advance(measure);
+  governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());
+  return ok;
+}
+
+bool Simulation::advance(bool measure) {
   if (!failure_.empty()) return false;
   const bool check = steps_ % settings_.check_interval == 0;
   measure = measure || check || !energy_.has_reference;
   if (list_.stale(last_max_disp2_, cell_)) list_.build(particles_, cell_);
 
-  const double dt = time_scale_.dt;
   contact_forces_.set_motion_clock(motion_clock_, sleep_apart_);
+  // The tangential increments of this evaluation span the last step (its dt).
   const ContactSums cs =
-      contact_forces_.compute(particles_, cell_, list_, law_, dt, measure, force_, torque_);
+      contact_forces_.compute(particles_, cell_, list_, law_, time_scale_.dt, measure, force_, torque_);
+  // Contacts basis: the step from t to t+dt from the overlaps at t.
+  if (settings_.time_step_basis == TimeStepBasis::Contacts) {
+    // dt_crit is refreshed every check_interval steps and whenever the
+    // stress (the virial) has changed by 5 % since the last refresh: K ~ sigma^(1/3),
+    // so dt_crit has then moved by less than 1 % (contact_time_step.h).
+    const double w = frobenius_distance(cs.virial, 0.0);
+    const bool refresh = dt_pending_ || steps_ % settings_.check_interval == 0 ||
+                         std::fabs(w - refresh_virial_) > 0.05 * refresh_virial_ || (refresh_virial_ == 0.0 && w > 0.0);
+    if (refresh) refresh_virial_ = w;
+    refresh_time_step(refresh);
+  }
+  const double dt = time_scale_.dt;
   // Boundary power -sum_c F . (L d) = -sum_ab L_ab W_ba with W = sum d (x) F.
   const Mat3& l = cell_.velocity_gradient();
   double power = 0.0;
@@ -123,6 +191,7 @@ bool Simulation::step(bool measure) {
   cell_.deform(dt);
   const IntegrationSums is = integrator_.advance(particles_, cell_, force_, torque_, list_.frac_at_build(), measure);
   last_max_disp2_ = is.max_displacement2;
+  if (settings_.time_step_basis == TimeStepBasis::Contacts) impact_u_ = impact_speed(is.max_speed2);
   if (list_.has_spheroids()) {
     // Motion clock: bound on the growth of any pair's gap along a fixed
     // normal in this step (ContactForces::set_motion_clock).
@@ -255,6 +324,9 @@ SimulationState Simulation::state() const {
   s.contacts = list_.histories(particles_);
   s.time = time_;
   s.step = steps_;
+  s.time_step = time_scale_.dt;
+  s.contact_critical_step = critical_.dt;
+  s.contact_refresh_virial = refresh_virial_;
   s.energy = energy_;
   s.settings = settings_;
   return s;

@@ -156,6 +156,14 @@ void write_rest(const h5::Group& root, const dem::SimulationState& s, const Samp
     g.set_attr("damping_model", dem::to_string(st.damping.model()));
     g.write_scalar("damping_ratio", st.damping.ratio(), "1");
     g.write_scalar("time_step_ratio", st.time_step_ratio, "1");
+    if (st.time_step_basis != dem::TimeStepBasis::ReferenceTime) {  // absent = reference (older files)
+      g.set_attr("time_step_basis", dem::to_string(st.time_step_basis));
+      g.write_scalar("time_step_safety", st.time_step_safety, "1");
+      g.write_scalar("time_step_max_ratio", st.time_step_max_ratio, "1");
+      g.write_scalar("time_step", s.time_step, "s");
+      g.write_scalar("contact_critical_step", s.contact_critical_step, "s");  // +inf: no contacts
+      g.write_scalar("contact_refresh_virial", s.contact_refresh_virial, "N m");
+    }
     g.write_scalar("skin_ratio", st.skin_ratio, "1");
     g.write_scalar("check_interval", st.check_interval, "1");
     g.write_scalar("max_overlap_ratio", st.limits.max_overlap_ratio, "1");
@@ -341,7 +349,8 @@ void read_cell(const h5::Group& root, dem::SimulationState& s) {
   if (s.step < 0) g.fail("step", "is " + std::to_string(s.step) + ", must be >= 0");
 }
 
-void read_settings(const h5::Group& root, dem::SimulationSettings& st) {
+void read_settings(const h5::Group& root, dem::SimulationSettings& st, double& time_step, double& critical,
+                   double& virial) {
   {
     const h5::Group g = root.open_group("material");
     st.material.density = g.read_scalar<double>("density");
@@ -360,6 +369,17 @@ void read_settings(const h5::Group& root, dem::SimulationSettings& st) {
   const double ratio = read_checked(g, "damping_ratio", non_negative, "finite and >= 0");
   st.damping = dem::MassDamping(model, ratio);
   st.time_step_ratio = read_checked(g, "time_step_ratio", positive, "finite and > 0");
+  if (g.has_attr("time_step_basis")) {
+    const std::string basis = g.attr_string("time_step_basis");
+    if (!dem::parse_time_step_basis(basis, st.time_step_basis))
+      g.fail("", "attribute time_step_basis: is '" + basis + "', must be reference or contacts");
+    st.time_step_safety = read_checked(g, "time_step_safety", positive, "finite and > 0");
+    st.time_step_max_ratio = read_checked(g, "time_step_max_ratio", positive, "finite and > 0");
+    time_step = read_checked(g, "time_step", positive, "finite and > 0");
+    critical = g.read_scalar<double>("contact_critical_step");
+    if (!(critical > 0.0)) g.fail("contact_critical_step", "is " + number(critical) + ", must be > 0 (inf allowed)");
+    virial = read_checked(g, "contact_refresh_virial", non_negative, "finite and >= 0");
+  }
   st.skin_ratio = read_checked(g, "skin_ratio", non_negative, "finite and >= 0");
   st.check_interval = g.read_scalar<std::int64_t>("check_interval");
   if (st.check_interval <= 0) g.fail("check_interval", "is " + std::to_string(st.check_interval) + ", must be > 0");
@@ -418,7 +438,7 @@ dem::SimulationState read_sample(const std::string& path, SampleMetadata* meta) 
   read_particles(root, s.particles);
   s.contacts = read_contacts(root, s.particles.id);
   read_cell(root, s);
-  read_settings(root, s.settings);
+  read_settings(root, s.settings, s.time_step, s.contact_critical_step, s.contact_refresh_virial);
   read_energy(root, s.energy);
   const SampleMetadata m = read_preparation(root);
   if (meta != nullptr) *meta = m;

@@ -26,6 +26,9 @@ dem::SimulationSettings settings_from_scene(const SceneConfig& scene) {
   s.material = scene.material;
   s.damping = scene.damping;
   s.time_step_ratio = scene.time_step_ratio;
+  s.time_step_basis = scene.time_step_basis;
+  s.time_step_safety = scene.time_step_safety;
+  s.time_step_max_ratio = scene.time_step_max_ratio;
   s.limits = scene.stability;
   return s;
 }
@@ -91,6 +94,13 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       st.settings.material.friction = scene.material.friction;
       st.settings.damping = scene.damping;
       st.settings.time_step_ratio = scene.time_step_ratio;
+      const dem::SimulationSettings& file = st.settings;
+      if (file.time_step_basis != scene.time_step_basis || file.time_step_safety != scene.time_step_safety ||
+          file.time_step_max_ratio != scene.time_step_max_ratio)
+        st.time_step = st.contact_critical_step = 0.0;  // another rule: derive the step afresh
+      st.settings.time_step_basis = scene.time_step_basis;
+      st.settings.time_step_safety = scene.time_step_safety;
+      st.settings.time_step_max_ratio = scene.time_step_max_ratio;
       st.settings.limits = scene.stability;
       return dem::Simulation(st);
     }

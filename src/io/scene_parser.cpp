@@ -362,8 +362,8 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   SceneConfig cfg;
   cfg.source_path = source_path;
   const Section top(doc, "",
-                    {"material", "particles", "cell", "damping", "time_step_ratio", "stability",
-                     "stages", "output", "control"});
+                    {"material", "particles", "cell", "damping", "time_step_ratio", "time_step_basis",
+                     "time_step_safety", "time_step_max_ratio", "stability", "stages", "output", "control"});
   parse_material(top.get("material"), cfg.material, cfg.material_given);
   parse_particles(top.required("particles"), source_path, cfg);
   parse_cell(top.get("cell"), cfg);
@@ -371,7 +371,16 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   cfg.time_step_ratio = top.number_or("time_step_ratio", cfg.time_step_ratio);
   require(cfg.time_step_ratio > 0.0, "time_step_ratio",
           "must be > 0 (time step = c_t x critical time step), got " + num(cfg.time_step_ratio));
-  cfg.time_step_warning = cfg.time_step_ratio >= 1.0;
+  const std::string basis = top.string_or("time_step_basis", dem::to_string(cfg.time_step_basis));
+  require(dem::parse_time_step_basis(basis, cfg.time_step_basis), "time_step_basis",
+          "must be reference (dt = c_t T0) or contacts (dt from the contact stiffnesses), got '" + basis + "'");
+  cfg.time_step_safety = top.number_or("time_step_safety", cfg.time_step_safety);
+  require(cfg.time_step_safety > 0.0 && cfg.time_step_safety <= 1.0, "time_step_safety",
+          "must lie in (0, 1] (dt = safety x critical step of the contacts), got " + num(cfg.time_step_safety));
+  cfg.time_step_max_ratio = top.number_or("time_step_max_ratio", cfg.time_step_max_ratio);
+  require(cfg.time_step_max_ratio > 0.0 && std::isfinite(cfg.time_step_max_ratio), "time_step_max_ratio",
+          "must be finite and > 0 (largest dt / T0), got " + num(cfg.time_step_max_ratio));
+  cfg.time_step_warning = cfg.time_step_basis == dem::TimeStepBasis::ReferenceTime && cfg.time_step_ratio >= 1.0;
   parse_stability(top.get("stability"), cfg.stability);
   parse_stages(top.required("stages"), cfg.stages);
   parse_output(top.get("output"), cfg.output);

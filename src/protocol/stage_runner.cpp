@@ -61,7 +61,7 @@ std::string StageRunner::progress_line(const StageSpec& st, std::int64_t k, cons
 
 bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& report) {
   sim_.reset_strain_reference();
-  const double t0 = sim_.time_scale().t0, dt = sim_.dt();
+  const double t0 = sim_.time_scale().t0;
   const std::int64_t n = options_.control_interval;
   StageJudge judge(st, options_, t0);
   const StageBoundary& boundary = judge.boundary();
@@ -95,6 +95,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     if (options_.keep_last_good) report.last_good = sim_.state();
   };
   while (true) {
+    const double dt = sim_.dt();  // per tick: the contacts basis refreshes it (dem/contact_time_step.h)
     sim_.set_strain_rates(velocity_gradient(rates, dt));
     const bool sample = judge.is_sample_tick(k + n);
     const bool measure_end = sample || servo || n > 1;

@@ -1,6 +1,8 @@
 // DemNode: the DEM specimen as a ROS node. See dem_node.h.
 #include "virtual_triaxial/ros/dem_node.h"
 
+#include <omp.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -71,6 +73,11 @@ void DemNode::read_parameters() {
   if (!(std::isfinite(diagnostics_period_) && diagnostics_period_ > 0.0))
     throw std::invalid_argument("~diagnostics_period: must be > 0 wall seconds");
   pnh_.param("start_paused", paused_, false);
+  // ~threads: OpenMP threads of the DEM steps; 0 (default) = chosen at run
+  // time up to OMP_NUM_THREADS / every core (dem/thread_governor.h), so a
+  // busy machine does not make the rig wait at barriers.
+  pnh_.param("threads", threads_, 0);
+  if (threads_ < 0) throw std::invalid_argument("~threads: must be >= 0 (0: chosen at run time)");
 
   SpecimenOverrides o;
   o.damping_model = optional_string(pnh_, "damping_model");
@@ -93,6 +100,7 @@ void DemNode::install(Specimen s) {
   if (!s.warning.empty()) ROS_WARN("dem_node: %s: %s", s.source.c_str(), s.warning.c_str());
   arbiter_.set_limit(s.sim->time_scale().t0, max_dimensionless_rate_);
   sim_ = std::move(s.sim);
+  if (threads_ == 0) sim_->set_thread_governor(dem::ThreadGovernor(omp_get_max_threads()));
   meta_ = s.meta;
   source_ = s.source;
   arbiter_.reset_commands();
@@ -153,6 +161,7 @@ void DemNode::run_tick() {
   for (int i = 0; i < 3; ++i) l[i] = std::expm1(-rates[i] * dt) / dt;
   sim_->set_strain_rates(l);
   const ::ros::WallTime t0 = ::ros::WallTime::now();
+  if (threads_ > 0) omp_set_num_threads(threads_);  // in this (callback) thread
   for (int k = 0; k < publish_every_; ++k)
     if (!sim_->step(k == publish_every_ - 1)) break;
   if (sim_->unstable()) {

@@ -17,12 +17,14 @@ struct History {
   std::vector<double> sigma_bar;  ///< stress / E, 9 per step
   std::vector<double> frac;       ///< fractional positions, last step
   std::vector<double> vel_bar;    ///< velocity T0 / L0, last step
+  std::vector<double> dt_bar;     ///< dt / T0, every step
   std::int64_t contacts = 0;
 };
 
 /// Isotropic compression of a 500-particle cloud for `steps` steps.
 History compress(double length_scale, double density, double young, DampingModel model,
-                 double strain_rate_si_or_negative, double eps_prime, int steps) {
+                 double strain_rate_si_or_negative, double eps_prime, int steps,
+                 TimeStepBasis basis = TimeStepBasis::ReferenceTime) {
   vt::test::CloudScene sc = vt::test::polydisperse_cloud(500, 1.8, 21, length_scale, density);
   SimulationSettings s;
   s.material = vt::test::test_material(0.5);
@@ -30,6 +32,7 @@ History compress(double length_scale, double density, double young, DampingModel
   s.material.young = young;
   s.damping = MassDamping(model, 0.05);
   s.time_step_ratio = 0.3;
+  s.time_step_basis = basis;
   Simulation sim(std::move(sc.particles), sc.cell, s);
   const double rate = strain_rate_si_or_negative > 0 ? strain_rate_si_or_negative
                                                      : eps_prime / sim.time_scale().t0;
@@ -44,6 +47,7 @@ History compress(double length_scale, double density, double young, DampingModel
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) h.sigma_bar.push_back(m.stress(a, b) / young);
     h.contacts = m.contacts;
+    h.dt_bar.push_back(sim.dt() / sim.time_scale().t0);
   }
   const double l0 = sim.time_scale().l0, t0 = sim.time_scale().t0;
   for (std::size_t i = 0; i < sim.particles().size(); ++i)
@@ -75,6 +79,23 @@ TEST(DimensionlessInvariance, ScaledDensityModulusAndLengthGiveIdenticalHistory)
     expect_bit_identical(base.frac, scaled.frac, "fractional positions");
     expect_bit_identical(base.vel_bar, scaled.vel_bar, "dimensionless velocities");
   }
+}
+
+// The time step from the contacts (dem/contact_time_step.h): dt / T0 is a
+// function of the dimensionless state, so the scaled run takes the same
+// dimensionless steps and keeps the same history bit for bit.
+TEST(DimensionlessInvariance, ContactTimeStepKeepsTheInvariance) {
+  // 500 steps: the larger steps reach the reference run's strain sooner
+  const History base = compress(1.0, 2650.0, 70e9, DampingModel::OD, -1, 2e-4, 500, TimeStepBasis::Contacts);
+  const History scaled =
+      compress(2.0, 4 * 2650.0, 16 * 70e9, DampingModel::OD, -1, 2e-4, 500, TimeStepBasis::Contacts);
+  ASSERT_GT(base.contacts, 100) << "the run must build a contact network";
+  // the step followed the contacts: the ceiling first, then smaller steps
+  EXPECT_EQ(base.dt_bar.front(), SimulationSettings{}.time_step_max_ratio);
+  EXPECT_LT(base.dt_bar.back(), base.dt_bar.front());
+  expect_bit_identical(base.dt_bar, scaled.dt_bar, "dt / T0 history");
+  expect_bit_identical(base.sigma_bar, scaled.sigma_bar, "sigma_bar history");
+  expect_bit_identical(base.frac, scaled.frac, "fractional positions");
 }
 
 TEST(DimensionlessInvariance, DensityTimesFourEqualsStrainRateTimesTwo) {

@@ -13,10 +13,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "virtual_triaxial/dem/contact_forces.h"
+#include "virtual_triaxial/dem/contact_time_step.h"
 #include "virtual_triaxial/dem/energy_budget.h"
 #include "virtual_triaxial/dem/hertz_mindlin.h"
 #include "virtual_triaxial/dem/leapfrog_integrator.h"
@@ -27,6 +29,7 @@
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/stability_monitor.h"
+#include "virtual_triaxial/dem/thread_governor.h"
 #include "virtual_triaxial/dem/time_scale.h"
 
 namespace vt::dem {
@@ -34,7 +37,12 @@ namespace vt::dem {
 struct SimulationSettings {
   Material material;
   MassDamping damping;
-  double time_step_ratio = 0.3;  ///< c_t
+  double time_step_ratio = 0.3;  ///< c_t (dt = c_t T0 with TimeStepBasis::ReferenceTime)
+  /// Contacts: dt = min(s dt_crit, r_max T0) from the contacts, refreshed
+  /// every check_interval steps (contact_time_step.h).
+  TimeStepBasis time_step_basis = TimeStepBasis::ReferenceTime;
+  double time_step_safety = 0.35;    ///< s [-]
+  double time_step_max_ratio = 2.0;  ///< r_max [-]
   double skin_ratio = 0.15;      ///< Verlet skin / L0
   StabilityLimits limits;
   std::int64_t check_interval = 100;  ///< steps between stability checks
@@ -47,6 +55,9 @@ struct SimulationState {
   std::vector<ContactHistory> contacts;
   double time = 0;
   std::int64_t step = 0;
+  double time_step = 0;  ///< dt in use [s] (contacts basis: restored; 0 = derive it)
+  double contact_critical_step = 0;  ///< contacts basis: dt_crit of the last refresh [s] (+inf: no contacts)
+  double contact_refresh_virial = 0;  ///< contacts basis: ||sum d (x) F||_F at that refresh [N m]
   EnergyBudget energy;
   SimulationSettings settings;
 };
@@ -60,6 +71,11 @@ class Simulation {
   /// per-contact norms needed by measures(). Returns false (and stops
   /// stepping) when the stability monitor reports a numerical failure.
   bool step(bool measure = false);
+  /// Choose the OpenMP thread count per step at run time (ThreadGovernor;
+  /// results are bit-identical for any count); std::nullopt or a governor
+  /// of max_threads 1 switches it off (the caller's count is used).
+  void set_thread_governor(std::optional<ThreadGovernor> g) { governor_ = g; }
+  const std::optional<ThreadGovernor>& thread_governor() const { return governor_; }
   /// Advance n steps; stops early on instability. Returns steps done.
   std::int64_t run(std::int64_t n);
 
@@ -88,6 +104,9 @@ class Simulation {
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
   double dt() const { return time_scale_.dt; }
+  /// Critical step of the contacts at the last refresh (contacts basis only;
+  /// dt = +inf before the first refresh or without contacts).
+  const ContactCriticalStep& contact_critical_step() const { return critical_; }
 
   /// Per-axis strain rates [1/s], extension positive (mechanics convention).
   void set_strain_rates(const Vec3& rates) { cell_.set_strain_rates(rates); }
@@ -112,7 +131,12 @@ class Simulation {
 
  private:
   void initialize();
+  bool advance(bool measure);
   void update_damping();
+  /// Contacts basis: dt from the pair states of the last force evaluation
+  /// (contacts = true; else the last dt_crit is kept) and the impact bound.
+  void refresh_time_step(bool contacts);
+  double impact_speed(double max_speed2) const;
   /// Back the large per-particle arrays with transparent huge pages (huge_pages.h).
   void use_huge_pages();
 
@@ -121,6 +145,14 @@ class Simulation {
   SimulationSettings settings_;
   TimeScale time_scale_;
   HertzMindlin law_;
+  std::optional<ThreadGovernor> governor_;
+  ContactTimeStep auto_step_;
+  ContactCriticalStep critical_;
+  bool dt_pending_ = false;  ///< contacts basis: refresh on the next step
+  double refresh_virial_ = 0;  ///< contacts basis: ||W||_F at the last dt_crit refresh [N m]
+  double impact_u_ = 0;      ///< contacts basis: relative speed bound of the last step [m/s]
+  double impact_v2_ = 0;     ///< max |v|^2 at construction [m^2/s^2]
+  std::size_t lightest_ = 0;  ///< index of the lightest particle (impact bound)
   NeighborList list_;
   ContactForces contact_forces_;
   LeapfrogIntegrator integrator_;

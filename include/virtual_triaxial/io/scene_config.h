@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "virtual_triaxial/dem/mass_damping.h"
+#include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/material.h"
 #include "virtual_triaxial/dem/stability_monitor.h"
 #include "virtual_triaxial/dem/vec3.h"
@@ -84,6 +85,10 @@ struct SceneConfig {
   dem::Vec3 cell_aspect{1, 1, 1};      ///< for Distribution
   dem::MassDamping damping;
   double time_step_ratio = 0.3;
+  /// time_step_basis: contacts -> dt from the contacts (dem/contact_time_step.h)
+  dem::TimeStepBasis time_step_basis = dem::TimeStepBasis::ReferenceTime;
+  double time_step_safety = dem::SimulationSettings{}.time_step_safety;
+  double time_step_max_ratio = dem::SimulationSettings{}.time_step_max_ratio;
   bool time_step_warning = false;      ///< c_t >= 1 accepted with a warning
   dem::StabilityLimits stability;
   std::vector<StageSpec> stages;

@@ -129,6 +129,7 @@ class DemNode {
 
   // parameters
   int publish_every_ = 10;
+  int threads_ = 0;  ///< ~threads; 0 = ThreadGovernor
   bool lockstep_ = true;
   double lockstep_timeout_ = 2.0;
   double max_dimensionless_rate_ = 1e-3;

@@ -1,0 +1,234 @@
+#!/usr/bin/python3
+"""Side by side with LAMMPS (issue 13): the same drained triaxial test on the
+same packing, run by Debian's LAMMPS (`lmp`) and by triax_run, interleaved.
+
+usage: bench/lammps_side_by_side.sh [--sample config/samples/dense_1000.h5]
+       [--strain 0.05] [--rate 1e-5] [--threads "1 2"] [--rounds 3]
+       [--lammps-ct 1.6] [--ours "ct0.3 contacts"] [--out DIR]
+
+What runs (units SI, compression positive):
+  LAMMPS: the sample as a data file (triax_import --to-lammps; atom_style
+    sphere, no contact history), pair_style granular with hertz/material
+    (E, nu; no contact damping) and tangential mindlin (k_t from E and nu,
+    no tangential damping, mu): the same Hertz-Mindlin law as ours (eq. 107,
+    114-117); fix nve/sphere; fix viscous gamma = 4 xi / T0 x mean mass (our
+    OD mass damping, eq. 101, on translation only); fix deform z trate
+    (axial log strain rate eps'/T0, remap x) and fix press/berendsen on x
+    and y holding 100 kPa (the lateral servo: Pdamp 100 dt, modulus 3 MPa,
+    the stiffest setting found stable; it holds the lateral stress within
+    ~10 %, printed as sigma_lat); dt = lammps-ct x T0. One MPI
+    rank per thread (mpirun -np T).
+  ours: triax_run on a protocol with one drained_shear stage (same rate,
+    lateral PID servo at 100 kPa, OD damping xi of the sample) to the same
+    axial strain, at c_t 0.3 ("ct0.3", the default) and with the time step
+    from the contacts ("contacts", dem/contact_time_step.h); OMP threads T.
+Prints per case the medians over rounds of: dt/T0, steps, wall time to the
+strain, cost per particle-step (LAMMPS: its "Loop time"; ours: the run's
+wall time), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the
+end; the load average beside each round. Data in OUT/side_by_side.json.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "build/devel/lib/virtual_triaxial")
+
+
+def load() -> str:
+    with open("/proc/loadavg") as f:
+        return f.read().split()[0]
+
+
+def sample_facts(path):
+    with h5py.File(path, "r") as f:
+        r = f["particles/radius"][()]
+        rho = float(f["material/density"][()])
+        young = float(f["material/young_modulus"][()])
+        return {"n": len(r), "r_min": float(r.min()), "rho": rho, "young": young,
+                "nu": float(f["material/poisson_ratio"][()]), "mu": float(f["material/friction"][()]),
+                "xi": float(f["settings/damping_ratio"][()]), "mass_mean": float(f["particles/mass"][()].mean()),
+                "t0": 2 * float(r.min()) * math.sqrt(rho / young)}
+
+
+def lammps_deck(s, data, dt, rate, strain, thermo_every):
+    steps = int(math.ceil(strain / (rate * dt)))
+    gamma = 4 * s["xi"] / s["t0"] * s["mass_mean"]
+    return steps, f"""# drained triaxial test, written by bench/lammps_side_by_side.py
+units si
+atom_style sphere
+atom_modify map array
+boundary p p p
+newton off
+comm_modify vel yes
+read_data {data}
+pair_style granular
+pair_coeff * * hertz/material {s['young']!r} 0.0 {s['nu']!r} tangential mindlin NULL 0.0 {s['mu']!r}
+neighbor {0.15 * 2 * s['r_min']!r} bin
+neigh_modify delay 0 every 1 check yes
+timestep {dt!r}
+fix integ all nve/sphere
+fix damp all viscous {gamma!r}
+fix axial all deform 1 z trate {-rate!r} remap x
+fix servo all press/berendsen x 100000.0 100000.0 {100 * dt!r} y 100000.0 100000.0 {100 * dt!r} couple none modulus 3.0e6 dilate all
+thermo_style custom step time pxx pyy pzz vol lz
+thermo_modify norm no format float %.10g
+thermo {thermo_every}
+run {steps}
+"""
+
+
+def parse_lammps(log, n):
+    rows, loop = [], None
+    head = None
+    for line in log.splitlines():
+        w = line.split()
+        if w[:2] == ["Step", "Time"]:
+            head = w
+            continue
+        if head and len(w) == len(head):
+            try:
+                rows.append([float(x) for x in w])
+                continue
+            except ValueError:
+                head = None
+        m = re.match(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps", line)
+        if m:
+            loop = (float(m.group(1)), int(m.group(3)))
+            head = None
+    a = np.array(rows)
+    pxx, pyy, pzz, vol, lz = a[:, 2], a[:, 3], a[:, 4], a[:, 5], a[:, 6]
+    eps_a, eps_v = np.log(lz[0] / lz), np.log(vol[0] / vol)
+    p, q = (pxx + pyy + pzz) / 3, pzz - (pxx + pyy) / 2
+    s1, s3 = pzz, np.minimum(pxx, pyy)
+    phi = np.degrees(np.arcsin(np.clip((s1 - s3) / (s1 + s3), -1, 1)))
+    return {"wall": loop[0], "steps": loop[1], "us": loop[0] * 1e6 / (n * loop[1]),
+            "eps_a": eps_a, "eps_v": eps_v, "qp": q / p, "phi_peak": float(phi.max()), "lat": (pxx + pyy) / 2}
+
+
+def ours_protocol(sample, s, config, rate, strain):
+    basis = "time_step_basis: contacts" if config == "contacts" else "time_step_ratio: " + config[2:]
+    return f"""particles: {{sample_file: {os.path.abspath(sample)}}}
+material: {{friction: {s['mu']!r}}}
+damping: {{model: OD, ratio: {s['xi']!r}}}
+{basis}
+control:
+  interval: 10
+  servo: {{strategy: pid, gain: 1.0, ki: 0.6, max_dimensionless_rate: 1.0e-4}}
+stages:
+  - name: shear
+    type: drained_shear
+    confining_pressure: 100.0e3
+    strain_rate_dimensionless: {rate!r}
+    axial_axis: z
+    stop: {{axial_strain: {strain!r}}}
+output: {{interval: 100, progress_seconds: 0}}
+"""
+
+
+def parse_ours(summary_line, results, n):
+    s = json.loads(summary_line)
+    with h5py.File(results, "r") as f:
+        g = f[list(f.keys())[0]]["series"]
+        eps_a = g["strain"][()][:, 2]
+        return {"wall": s["wall_seconds"], "steps": s["steps"], "us": s["wall_seconds"] * 1e6 / (n * s["steps"]),
+                "eps_a": eps_a, "eps_v": g["volumetric_strain"][()], "qp": g["q"][()] / g["p"][()],
+                "dt_t0": s["dt_s"] / s["t0_s"], "phi_peak": s["phi_peak_deg"],
+                "lat": (g["stress"][()][:, 0] + g["stress"][()][:, 4]) / 2}
+
+
+def window(r, strain):
+    sel = (r["eps_a"] >= 0.8 * strain) & (r["eps_a"] <= strain * 1.001)
+    return float(np.mean(r["qp"][sel])), float(r["eps_v"][-1]), float(np.mean(r["lat"][sel]))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sample", default=os.path.join(ROOT, "config/samples/dense_1000.h5"))
+    ap.add_argument("--strain", type=float, default=0.05)
+    ap.add_argument("--rate", type=float, default=1e-5, help="dimensionless axial rate eps' = eps_dot T0")
+    ap.add_argument("--threads", default="1 2")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--lammps-ct", type=float, default=1.6)
+    ap.add_argument("--ours", default="ct0.3 contacts")
+    ap.add_argument("--lmp", default="lmp")
+    ap.add_argument("--out", default=None)
+    a = ap.parse_args()
+    if not shutil.which(a.lmp):
+        sys.exit(f"lammps_side_by_side: '{a.lmp}' not found: install Debian's LAMMPS (apt-get install lammps "
+                 "openmpi-bin) or give --lmp")
+    out = a.out or tempfile.mkdtemp(prefix="vt_lammps_")
+    os.makedirs(out, exist_ok=True)
+    s = sample_facts(a.sample)
+    data = os.path.join(out, "sample.data")
+    subprocess.run([os.path.join(BIN, "triax_import"), "--to-lammps", a.sample, "--out", data], check=True,
+                   stdout=subprocess.DEVNULL)
+    dt_l = a.lammps_ct * s["t0"]
+    rate_si = a.rate / s["t0"]
+    steps_l, deck = lammps_deck(s, data, dt_l, rate_si, a.strain, max(1, int(0.0005 / (rate_si * dt_l))))
+    with open(os.path.join(out, "in.triax"), "w") as f:
+        f.write(deck)
+    for c in a.ours.split():
+        with open(os.path.join(out, f"ours_{c}.yaml"), "w") as f:
+            f.write(ours_protocol(a.sample, s, c, a.rate, a.strain))
+    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {s['n']} particles ({a.sample}), "
+          f"strain {a.strain}, eps' {a.rate}, T0 {s['t0']:.4g} s; LAMMPS dt = {a.lammps_ct} T0, {steps_l} steps",
+          flush=True)
+    cases = {}
+    for rnd in range(a.rounds):
+        for t in a.threads.split():
+            env = dict(os.environ, OMP_NUM_THREADS="1")
+            cmd = ([a.lmp] if t == "1" else ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", t, a.lmp])
+            ld = load()
+            p = subprocess.run(cmd + ["-in", "in.triax", "-log", "none", "-screen", "lammps.out"], cwd=out, env=env,
+                               capture_output=True, text=True)
+            with open(os.path.join(out, "lammps.out")) as f:
+                log = f.read()
+            if p.returncode != 0 or "Loop time" not in log:
+                sys.exit(f"lammps_side_by_side: lmp failed (see {out}/lammps.out): {p.stderr[-500:]}")
+            r = parse_lammps(log, s["n"])
+            r["dt_t0"], r["load"] = a.lammps_ct, ld
+            cases.setdefault(("LAMMPS", t), []).append(r)
+            for c in a.ours.split():
+                env = dict(os.environ, OMP_NUM_THREADS=t)
+                res = os.path.join(out, f"ours_{c}.h5")
+                ld = load()
+                p = subprocess.run([os.path.join(BIN, "triax_run"), os.path.join(out, f"ours_{c}.yaml"), "--out", res,
+                                    "--quiet"], env=env, capture_output=True, text=True)
+                if p.returncode != 0:
+                    sys.exit(f"lammps_side_by_side: triax_run failed: {p.stderr[-500:]}")
+                r = parse_ours(p.stdout.strip().splitlines()[-1], res, s["n"])
+                r["load"] = ld
+                cases.setdefault((f"ours {c}", t), []).append(r)
+        print(f"# round {rnd + 1}/{a.rounds} done, load {load()}", flush=True)
+    print(f"{'code':<16} {'T':>2} {'dt/T0':>7} {'steps':>7} {'wall_s':>8} {'us/p-step':>10} "
+          f"{'q/p@0.8-1.0':>11} {'eps_v_end':>10} {'phi_pk':>6} {'sig_lat':>7} {'loads'}")
+    table = []
+    for (code, t), rs in cases.items():
+        med = lambda k: statistics.median(r[k] for r in rs)
+        qp, ev, lat = window(rs[0], a.strain)
+        row = {"code": code, "threads": int(t), "dt_t0": med("dt_t0"), "steps": med("steps"), "wall_s": med("wall"),
+               "us_per_particle_step": med("us"), "qp_window": qp, "eps_v_end": ev, "sigma_lat_window_pa": lat, "phi_peak_deg": rs[0]["phi_peak"],
+               "loads": [r["load"] for r in rs], "walls": [r["wall"] for r in rs]}
+        table.append(row)
+        print(f"{code:<16} {t:>2} {row['dt_t0']:7.3f} {row['steps']:7.0f} {row['wall_s']:8.2f} "
+              f"{row['us_per_particle_step']:10.4f} {qp:11.4f} {ev:10.5f} {rs[0]['phi_peak']:6.2f} {lat / 1e3:7.1f} {' '.join(row['loads'])}")
+    with open(os.path.join(out, "side_by_side.json"), "w") as f:
+        json.dump({"sample": a.sample, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
+                   "date": time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime()), "cases": table}, f, indent=1)
+    print(f"# data: {out}/side_by_side.json")
+
+
+if __name__ == "__main__":
+    main()

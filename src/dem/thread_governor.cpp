@@ -1,0 +1,42 @@
+#include "virtual_triaxial/dem/thread_governor.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace vt::dem {
+
+ThreadGovernor::ThreadGovernor(int max_threads, std::int64_t min_block_steps, double min_block_seconds,
+                               int exploit_blocks)
+    : max_(std::max(1, max_threads)),
+      min_steps_(std::max<std::int64_t>(1, min_block_steps)),
+      min_seconds_(min_block_seconds),
+      exploit_(std::max(1, exploit_blocks)),
+      current_(max_) {}
+
+void ThreadGovernor::record_step(double seconds) {
+  if (max_ == 1) return;
+  ++block_steps_;
+  ++steps_[slot(current_)];
+  block_seconds_ += seconds;
+  if (block_steps_ >= min_steps_ && block_seconds_ >= min_seconds_) end_block();
+}
+
+void ThreadGovernor::end_block() {
+  cost_[slot(current_)] = block_seconds_ / static_cast<double>(block_steps_);
+  block_steps_ = 0;
+  block_seconds_ = 0;
+  if (cost_[0] == 0) {  // start: max_threads measured, now 1
+    current_ = 1;
+    return;
+  }
+  const int best = cost_[0] <= cost_[1] ? 1 : max_;
+  const int other = best == 1 ? max_ : 1;
+  if (current_ == best && ++blocks_since_probe_ >= exploit_) {
+    blocks_since_probe_ = 0;
+    current_ = other;  // one block to refresh the other count's cost
+  } else {
+    current_ = best;
+  }
+}
+
+}  // namespace vt::dem

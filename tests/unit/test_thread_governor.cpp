@@ -1,0 +1,79 @@
+// Runtime thread count (dem/thread_governor.h): the governor keeps the count
+// whose measured cost per step is lower, notices a load that comes or goes
+// within exploit_blocks + 1 blocks, spends at most one block in
+// exploit_blocks + 1 on the worse count, and a run whose thread count it
+// switches back and forth is bit-identical to a one-thread run.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cstring>
+
+#include "support/scenes.h"
+#include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/thread_governor.h"
+
+using namespace vt::dem;
+
+namespace {
+
+/// Run `steps` steps where a step costs cost(threads) seconds.
+template <class Cost>
+void feed(ThreadGovernor& g, int steps, Cost cost) {
+  for (int k = 0; k < steps; ++k) g.record_step(cost(g.threads()));
+}
+
+}  // namespace
+
+TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
+  ThreadGovernor g(2, 10, 0.0, 15);  // blocks of 10 steps
+  EXPECT_EQ(g.threads(), 2);
+  // busy machine: two threads 3x slower than one
+  feed(g, 3200, [](int t) { return t == 1 ? 1e-3 : 3e-3; });
+  EXPECT_NEAR(g.cost_one(), 1e-3, 1e-15);
+  EXPECT_NEAR(g.cost_max(), 3e-3, 1e-15);
+  // after the two start blocks, one probe block of 10 steps in every 16
+  EXPECT_LE(g.steps_max(), 10 + 3200 / 16 + 10);
+  EXPECT_GE(g.steps_one(), 3200 - (10 + 3200 / 16 + 10));
+  // the load goes away: two threads twice as fast; found within 16 blocks
+  const std::int64_t one_before = g.steps_one();
+  feed(g, 170, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_LE(g.steps_one() - one_before, 160);
+  const std::int64_t max_before = g.steps_max();
+  feed(g, 1600, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
+  EXPECT_GE(g.steps_max() - max_before, 1600 - 1600 / 16 - 10);
+}
+
+TEST(ThreadGovernor, BlocksSpanTheMinimumWallTime) {
+  ThreadGovernor g(2, 1, 0.05, 15);
+  feed(g, 8, [](int) { return 0.006; });  // 48 ms: still the first block
+  EXPECT_EQ(g.threads(), 2);
+  feed(g, 1, [](int) { return 0.006; });
+  EXPECT_EQ(g.threads(), 1);
+  ThreadGovernor single(1);
+  feed(single, 100, [](int) { return 1.0; });
+  EXPECT_EQ(single.threads(), 1);
+  EXPECT_EQ(single.steps_one() + single.steps_max(), 0);
+}
+
+TEST(ThreadGovernor, SwitchingCountsKeepsTheRunBitIdentical) {
+  vt::test::CloudScene sc = vt::test::polydisperse_cloud(1200, 0.9, 11);
+  SimulationSettings s = vt::test::undamped(0.3);
+  s.damping = MassDamping(DampingModel::OD, 0.05);
+  Simulation one(sc.particles, sc.cell, s), governed(sc.particles, sc.cell, s);
+  const double rate = 2e-4 / one.time_scale().t0;
+  one.set_strain_rates({-rate, -rate, -rate});
+  governed.set_strain_rates({-rate, -rate, -rate});
+  governed.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1));  // switch every few steps
+  omp_set_num_threads(1);
+  ASSERT_EQ(one.run(600), 600);
+  ASSERT_EQ(governed.run(600), 600);
+  omp_set_num_threads(1);
+  EXPECT_GT(governed.thread_governor()->steps_one(), 100);
+  EXPECT_GT(governed.thread_governor()->steps_max(), 100);
+  const auto& a = one.particles();
+  const auto& b = governed.particles();
+  EXPECT_EQ(std::memcmp(a.frac.data(), b.frac.data(), a.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(a.velocity.data(), b.velocity.data(), a.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(a.omega.data(), b.omega.data(), a.size() * sizeof(Vec3)), 0);
+}
