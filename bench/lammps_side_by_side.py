@@ -43,7 +43,7 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "build/devel/lib/virtual_triaxial")
+BIN = os.environ.get("VT_BIN", os.path.join(ROOT, "build/devel/lib/virtual_triaxial"))
 
 
 def load() -> str:
@@ -133,7 +133,7 @@ stages:
     strain_rate_dimensionless: {rate!r}
     axial_axis: z
     stop: {{axial_strain: {strain!r}}}
-output: {{interval: 100, progress_seconds: 0}}
+output: {{interval: 100, progress_seconds: 3600}}
 """
 
 

@@ -4,7 +4,8 @@
 # thread count x shape, in interleaved rounds (round r runs every case once,
 # so a drift of the host's speed hits all cases alike), and print the
 # MEDIAN cost per particle-step of each case with the packing state beside it
-# (void ratio, contacts per particle, mean stress) and, per round, the
+# (void ratio and contacts per particle at the start of the timing, mean
+# stress at its start and end: the timing shears at constant volume) and, per round, the
 # ratios 1 thread / T threads and spheroid / sphere (medians of the rounds'
 # ratios).
 #
@@ -105,8 +106,8 @@ for s in ${list}; do
       printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %s\n' \
         "${s}" "$(value particles "${f}")" "${t}" "${shape}" "$(us "${t}" "${shape}" | median)" \
         "$(us "${t}" "${shape}" | sort -g | head -1)" "$(us "${t}" "${shape}" | sort -g | tail -1)" \
-        "$(value void_ratio "${f}")" "$(value contacts_per_particle "${f}")" \
-        "$(awk -v p="$(value mean_stress_pa "${f}")" 'BEGIN { printf "%.1f", p / 1e3 }')" \
+        "$(value void_ratio_start "${f}")" "$(value contacts_per_particle_start "${f}")" \
+        "$(awk -v p="$(value mean_stress_pa_start "${f}")" -v q="$(value mean_stress_pa "${f}")" 'BEGIN { printf "%.0f-%.0f", p / 1e3, q / 1e3 }')" \
         "$(value rss_bytes_per_particle "${f}")" "${x1}" "${xs}" "$(cat "${f}.idle")"
     done
   done

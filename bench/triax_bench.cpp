@@ -54,6 +54,9 @@
 // same fingerprint, for A/B); the output says which one ran (sums_in).
 //
 // Output (stdout), "key: value" lines, us_per_particle_step last:
+//   void_ratio_start, contacts_per_particle_start, mean_stress_pa_start: the
+//   packing at the start of the timed steps (void_ratio, contacts_per_particle,
+//   mean_stress_pa without the suffix: at their end).
 //   rss_bytes_per_particle = VmRSS after timing / N. It is the whole process:
 //   the Simulation (particles, forces, integrator coefficients, neighbour
 //   list with its per-pair data and reverse index), the executable and shared
@@ -506,8 +509,10 @@ int main(int argc, char** argv) {
   if (sums == "gather") sim->set_pair_loop_sum_threshold(SIZE_MAX);
   const double shear = kShearRate / sim->time_scale().t0;
   sim->set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
-  for (int k = 0; k < 50; ++k)
+  for (int k = 0; k < 49; ++k)
     if (!sim->step(false)) die(*sim);
+  if (!sim->step(true)) die(*sim);  // the packing timed: its state at the start
+  const Measures m0 = sim->measures();
   const std::int64_t rebuilds0 = sim->neighbor_list().rebuild_count();
   const std::uint64_t asleep0 = sim->spheroid_contact_stats().asleep;
   const double cpu0 = process_cpu_seconds();
@@ -536,6 +541,9 @@ int main(int argc, char** argv) {
   if (spheroids) std::printf("aspect_ratio: %g\n", aspect);
   std::printf("preparation_seconds: %.2f%s\n", prep_seconds, cached ? " (when cached)" : "");
   std::printf("preparation_steps: %lld\n", static_cast<long long>(prep_steps));
+  std::printf("void_ratio_start: %.4f\n", m0.void_ratio);
+  std::printf("contacts_per_particle_start: %.3f\n", static_cast<double>(m0.contacts) / np);
+  std::printf("mean_stress_pa_start: %.1f\n", m0.p);
   std::printf("void_ratio: %.4f\n", m.void_ratio);
   std::printf("contacts_per_particle: %.3f\n", static_cast<double>(m.contacts) / np);
   std::printf("neighbour_pairs_per_particle: %.3f\n",

@@ -1,6 +1,7 @@
 #include "virtual_triaxial/dem/thread_governor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace vt::dem {
@@ -31,7 +32,11 @@ void ThreadGovernor::end_block() {
   }
   const int best = cost_[0] <= cost_[1] ? 1 : max_;
   const int other = best == 1 ? max_ : 1;
-  if (current_ == best && ++blocks_since_probe_ >= exploit_) {
+  // Probe spacing grows with the cost ratio r (at most 64), so the probes
+  // take at most 1/(exploit + 1) of the run's time, however slow the other count.
+  const double r = std::min(64.0, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
+  const int probe_after = static_cast<int>(std::ceil(exploit_ * r));
+  if (current_ == best && ++blocks_since_probe_ >= probe_after) {
     blocks_since_probe_ = 0;
     current_ = other;  // one block to refresh the other count's cost
   } else {

@@ -12,11 +12,14 @@
 //   - cost c_T = block wall time / block steps, kept per candidate count
 //     T in {1, max_threads} (the latest block with that count);
 //   - probe: the first two blocks run max_threads, then 1; afterwards the
-//     cheaper count runs, and every `exploit_blocks` blocks the other count
-//     runs one block so that its cost is current (a load that came or went
-//     is seen within exploit_blocks + 1 blocks).
-// The probe costs at most 1/(exploit_blocks + 1) of the run at the worse
-// count. With max_threads == 1 it never changes anything.
+//     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
+//     ratio worse/better clamped to [1, 64], the other count runs one block
+//     so that its cost is current (a load that came or went is seen within
+//     exploit_blocks r + 1 blocks).
+// The probes take at most 1/(exploit_blocks + 1) of the run's wall time
+// (up to r = 64; measured under load, a 2-thread block can cost 40x a
+// 1-thread block, and a fixed spacing then lets the probes dominate).
+// With max_threads == 1 it never changes anything.
 #pragma once
 
 #include <cstdint>
