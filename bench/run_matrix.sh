@@ -10,7 +10,7 @@
 # ratios).
 #
 #   bench/run_matrix.sh [extra triax_bench args...]
-#   REPEATS=5 TILES="1 2 3x2x2 4 5x5x4" THREADS="1 2" SHAPES="sphere spheroid" bench/run_matrix.sh
+#   REPEATS=5 TILES="1 2 3x2x2 4 5x5x4" THREADS="1 2" SHAPES="sphere spheroid" STEPS=1000 bench/run_matrix.sh
 #   LOOSE=1 SIZES="1000 10000 100000" bench/run_matrix.sh   # the bench's own loose packing (the old extra)
 #
 # Samples: SPHERE_SAMPLE (default config/samples/dense_1000.h5: e 0.61, 5.3
@@ -35,6 +35,11 @@ IDLE_WAIT="${IDLE_WAIT:-0}"
 SPHERE_SAMPLE="${SPHERE_SAMPLE:-config/samples/dense_1000.h5}"
 SPHEROID_SAMPLE="${SPHEROID_SAMPLE:-config/samples/dense_1000_spheroid.h5}"
 ASPECT="${ASPECT:-1.2}"
+# The same number of steps for every N (the timing shears at constant
+# volume: at the default 1000 steps 0.3 % strain, so every N times the same
+# packing state; triax_bench's own default, 3e7/N steps, shears the small
+# samples much further).
+STEPS="${STEPS:-1000}"
 
 [[ -x "${BIN}" ]] || { echo "run_matrix: ${BIN} not built (vt_ensure_built all)" >&2; exit 1; }
 [[ "${REPEATS}" =~ ^[1-9][0-9]*$ ]] || { echo "run_matrix: REPEATS must be a whole number >= 1" >&2; exit 2; }
@@ -85,7 +90,7 @@ for s in ${list}; do
         case_args "${shape}" "${s}"
         idle="$(wait_idle)/$(cut -d' ' -f1 /proc/loadavg)"
         out="${work}/${s}_${t}_${shape}_${r}"
-        "${BIN}" "${args[@]}" --threads "${t}" "$@" >"${out}" 2>/dev/null || { echo "run_matrix: triax_bench ${args[*]} failed" >&2; exit 1; }
+        "${BIN}" "${args[@]}" --threads "${t}" --steps "${STEPS}" "$@" >"${out}" 2>/dev/null || { echo "run_matrix: triax_bench ${args[*]} failed" >&2; exit 1; }
         echo "${idle}" >"${out}.idle"
       done
     done

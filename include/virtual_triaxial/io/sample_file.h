@@ -26,7 +26,12 @@
 //   /material/density [kg/m^3], young_modulus [Pa], poisson_ratio [1], friction [1]
 //   /settings  attr damping_model ("OD"/"ND"); damping_ratio, time_step_ratio,
 //              skin_ratio [1]; check_interval () int64 [1];
-//              max_overlap_ratio, max_energy_error [1]
+//              max_overlap_ratio, max_energy_error [1]; with the time step
+//              from the contacts only (dem/contact_time_step.h; absent =
+//              reference basis, older files): attr time_step_basis
+//              ("contacts"), time_step_safety, time_step_max_ratio [1],
+//              time_step, contact_critical_step [s] (inf: no contacts),
+//              contact_refresh_virial [N m]
 //   /energy/boundary_work, damping, friction, kinetic_translational,
 //           kinetic_rotational, elastic, kinetic_reference,
 //           elastic_reference [J]; has_reference () uint8 [1]
