@@ -7,11 +7,12 @@
 namespace vt::dem {
 
 ThreadGovernor::ThreadGovernor(int max_threads, std::int64_t min_block_steps, double min_block_seconds,
-                               int exploit_blocks)
+                               int exploit_blocks, double max_spacing_ratio)
     : max_(std::max(1, max_threads)),
       min_steps_(std::max<std::int64_t>(1, min_block_steps)),
       min_seconds_(min_block_seconds),
       exploit_(std::max(1, exploit_blocks)),
+      max_ratio_(std::max(1.0, max_spacing_ratio)),
       current_(max_) {}
 
 void ThreadGovernor::record_step(double seconds) {
@@ -34,7 +35,7 @@ void ThreadGovernor::end_block() {
   const int other = best == 1 ? max_ : 1;
   // Probe spacing grows with the cost ratio r (at most 64), so the probes
   // take at most 1/(exploit + 1) of the run's time, however slow the other count.
-  const double r = std::min(64.0, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
+  const double r = std::min(max_ratio_, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
   const int probe_after = static_cast<int>(std::ceil(exploit_ * r));
   if (current_ == best && ++blocks_since_probe_ >= probe_after) {
     blocks_since_probe_ = 0;

@@ -65,7 +65,8 @@ TEST(ThreadGovernor, SwitchingCountsKeepsTheRunBitIdentical) {
   const double rate = 2e-4 / one.time_scale().t0;
   one.set_strain_rates({-rate, -rate, -rate});
   governed.set_strain_rates({-rate, -rate, -rate});
-  governed.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1));  // switch every few steps
+  // switch every few steps whatever the timings (fixed probe spacing)
+  governed.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1, 1.0));
   omp_set_num_threads(1);
   ASSERT_EQ(one.run(600), 600);
   ASSERT_EQ(governed.run(600), 600);

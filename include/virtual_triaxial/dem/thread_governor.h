@@ -29,7 +29,7 @@ namespace vt::dem {
 class ThreadGovernor {
  public:
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
-                          int exploit_blocks = 15);
+                          int exploit_blocks = 15, double max_spacing_ratio = 64.0);
 
   /// Thread count for the next step.
   int threads() const { return current_; }
@@ -52,6 +52,7 @@ class ThreadGovernor {
   std::int64_t min_steps_;
   double min_seconds_;
   int exploit_;
+  double max_ratio_;  ///< clamp of r (1: fixed spacing, for tests)
   int current_;
   std::int64_t block_steps_ = 0;
   double block_seconds_ = 0;
