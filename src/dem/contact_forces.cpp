@@ -16,6 +16,7 @@ void ContactSums::add(const ContactSums& o) {
   virial = virial + o.virial;
   elastic_energy += o.elastic_energy;
   friction_dissipation += o.friction_dissipation;
+  viscous_dissipation += o.viscous_dissipation;
   max_overlap_ratio = std::max(max_overlap_ratio, o.max_overlap_ratio);
   contacts += o.contacts;
   sliding += o.sliding;
@@ -79,6 +80,9 @@ struct PairInputs {
   // list order (the gather's order, see ContactForces::compute); else null.
   Vec3* force_out;
   Vec3* torque_out;
+  // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
+  const double* mass;
+  double viscous_a;
 };
 
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
@@ -91,7 +95,26 @@ struct PairInputs {
 /// zero force and moment (so the gather may add every entry); one that was in
 /// contact at the last evaluation also loses its spring. Measure = false
 /// skips what only measured steps use (elastic energy, force norms).
-template <bool Measure>
+/// The viscous contact dashpots (viscous_contact_damping.h) of pair (i, j):
+/// adds them to the force on j and returns the power they take [W] (normal
+/// always; tangential while the contact sticks).
+inline double add_dashpots(const PairInputs& in, std::int32_t i, std::int32_t j, const HertzMindlin& law,
+                           double delta, double r_eff, const Vec3& nrm, const Vec3& vc, bool sliding, Vec3& f) {
+  const double mi = in.mass[i], mj = in.mass[j];
+  const double eta_n = in.viscous_a * std::sqrt(mi * mj / (mi + mj) * law.normal_stiffness(delta, r_eff));
+  const double vn = dot(vc, nrm);
+  f -= (eta_n * vn) * nrm;
+  double power = eta_n * vn * vn;
+  if (!sliding) {
+    const double eta_t = eta_n * std::sqrt(law.tangential_ratio());  // a sqrt(m* K_t), K_t = ratio K_n
+    const Vec3 vt = vc - vn * nrm;
+    f -= eta_t * vt;
+    power += eta_t * norm2(vt);
+  }
+  return power;
+}
+
+template <bool Measure, bool Viscous>
 ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
                            std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch, double* c_dist2) {
   const Mat3 h = in.h, lgrad = in.lgrad;
@@ -160,7 +183,9 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
     const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
     const double r_eff = ri * rj / rsum;
     const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
-    const Vec3& f = r.force_on_j;
+    Vec3 f = r.force_on_j;
+    if constexpr (Viscous)
+      acc.viscous_dissipation += dt * add_dashpots(in, i, j, law, delta, r_eff, nrm, vc, r.sliding, f);
     PairState& st = in.state[e];
     const Vec3 m = -cross(nrm, f);  // n x F_on_i
     st.force = f;
@@ -212,7 +237,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 ///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
 ///   T_i = c x F_on_i,  T_j = (c - d) x F_on_j,
 /// so normal forces give moments on spheroids.
-template <bool Measure>
+template <bool Measure, bool Viscous>
 ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
                                     std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch,
                                     double* c_dist2) {
@@ -350,7 +375,9 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d + cross(in.omg[j], cj) - cross(in.omg[i], cpt);
     const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
     const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
-    const Vec3& f = r.force_on_j;
+    Vec3 f = r.force_on_j;
+    if constexpr (Viscous)
+      acc.viscous_dissipation += dt * add_dashpots(in, i, j, law, delta, r_eff, nrm, vc, r.sliding, f);
     st.force = f;
     st.moment_axis = cross(cj, f);  // here: the moment on j (see SpheroidPairState)
     st.half_overlap = 0.5 * delta;
@@ -383,7 +410,19 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   return acc;
 }
 
+using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,
+                                   Vec3*, double*);
+
+template <bool Viscous>
+PairKernel pair_kernel(bool spheroids, bool measure) {
+  if (spheroids)
+    return measure ? &evaluate_pairs_spheroid<true, Viscous> : &evaluate_pairs_spheroid<false, Viscous>;
+  return measure ? &evaluate_pairs<true, Viscous> : &evaluate_pairs<false, Viscous>;
+}
+
 }  // namespace
+
+void ContactForces::set_viscous_damping(const ViscousContactDamping& d) { viscous_a_ = d.coefficient(); }
 
 ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
                                    const HertzMindlin& law, double dt, bool measure,
@@ -407,7 +446,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                     sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                     p.shape.data(),    pd.spheroid.data(),    cell.h(),
                     cell.velocity_gradient(),                 law,
-                    dt,                nullptr,               nullptr};
+                    dt,                nullptr,               nullptr,
+                    p.mass.data(),     viscous_a_};
   ContactSums* sums = chunk_sums_.data();
   force.resize(n);
   torque.resize(n);
@@ -433,6 +473,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   Vec3* tout = torque.data();
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
+  const PairKernel kernel =
+      viscous_a_ > 0.0 ? pair_kernel<true>(spheroids, measure) : pair_kernel<false>(spheroids, measure);
+
   // One parallel region: pair evaluation, barrier, gather (on one thread the
   // pair loop sums per particle itself, in the same order: no gather).
 #pragma omp parallel
@@ -457,18 +500,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
-      if (spheroids)
-        sums[c] = measure ? evaluate_pairs_spheroid<true>(in, i_begin, i_end, mine.entry.data(),
-                                                          mine.separated.data(), mine.branch.data(),
-                                                          mine.dist2.data())
-                          : evaluate_pairs_spheroid<false>(in, i_begin, i_end, mine.entry.data(),
-                                                           mine.separated.data(), mine.branch.data(),
-                                                           mine.dist2.data());
-      else
-        sums[c] = measure ? evaluate_pairs<true>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
-                                                 mine.branch.data(), mine.dist2.data())
-                          : evaluate_pairs<false>(in, i_begin, i_end, mine.entry.data(), mine.separated.data(),
-                                                  mine.branch.data(), mine.dist2.data());
+      sums[c] = kernel(in, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
+                       mine.dist2.data());
     };
     if (scatter) {
       // One thread, chunks in ascending order: the pair loop visits every

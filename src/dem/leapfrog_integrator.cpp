@@ -43,7 +43,7 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   }
 }
 
-template <bool Spheroids>
+template <bool Spheroids, bool Local>
 IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
                                                   bool measure) const {
   const Mat3 hinv = in.hinv;
@@ -56,12 +56,18 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
   const Vec3* t_in = in.t_in;
   const Vec3* s_build = in.s_build;
   const Coefficients* coef = coef_.data();
+  const LocalDamping local = local_;
   IntegrationSums acc;
   for (std::size_t i = i_begin; i < i_end; ++i) {
     const Vec3 v_old = vel[i];
     const Vec3 w_old = omg[i];
     const Coefficients& k = coef[i];
-    const Vec3 v_new = k.decay * v_old + k.kick * f_in[i];
+    Vec3 f = f_in[i], t = t_in[i];
+    if constexpr (Local) {  // local_damping.h: velocity estimates at the force's time (YADE)
+      f = local.damped(f, v_old + (0.5 * k.kick) * f);
+      t = local.damped(t, Spheroids && in.shape[i] == Shape::Spheroid ? w_old : w_old + (0.5 * k.kick_rot) * t);
+    }
+    const Vec3 v_new = k.decay * v_old + k.kick * f;
     Vec3 w_new;
     if constexpr (Spheroids) {
       if (in.shape[i] == Shape::Spheroid) {
@@ -73,7 +79,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
         if (ib.y == ib.z) {  // symmetric body: every spheroid
           Quaternion q = in.orient[i];
           w_new = w_old;
-          const SymmetricRotationStep r = advance_symmetric_rotation(q, w_new, t_in[i], ib, rot_coef_[i]);
+          const SymmetricRotationStep r = advance_symmetric_rotation(q, w_new, t, ib, rot_coef_[i]);
           in.orient[i] = q;
           l_old = r.l_old;
           l_new = r.l_new;
@@ -83,7 +89,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
           Quaternion q = q_old;
           l_old = angular_momentum_world(q_old, w_old, ib);
           l_new = l_old;
-          advance_rotation(q, l_new, t_in[i], ib, alpha_[i], dt);
+          advance_rotation(q, l_new, t, ib, alpha_[i], dt);
           in.orient[i] = q;
           w_new = angular_velocity_world(q, l_new, ib);
           const Vec3 l_mid = 0.5 * (l_old + l_new);
@@ -94,16 +100,18 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
         const Vec3 v_mid = 0.5 * (v_old + v_new);
         const double m = k.mass;
         acc.damping_dissipation += k.alpha_dt * (m * norm2(v_mid) + two_e_rot);
+        if constexpr (Local)
+          acc.damping_dissipation += dt * (dot(f_in[i] - f, v_mid) + dot(t_in[i] - t, 0.5 * (w_old + w_new)));
         if (measure) {
           acc.kinetic_translational += 0.5 * m * norm2(v_mid);
           acc.kinetic_rotational += 0.5 * two_e_rot;
           acc.sum_inertia_moment += norm(l_new - l_old) / dt;
         }
       } else {
-        w_new = k.decay * w_old + k.kick_rot * t_in[i];
+        w_new = k.decay * w_old + k.kick_rot * t;
       }
     } else {
-      w_new = k.decay * w_old + k.kick_rot * t_in[i];
+      w_new = k.decay * w_old + k.kick_rot * t;
     }
     if (!Spheroids || in.shape[i] != Shape::Spheroid) {
       vel[i] = v_new;
@@ -113,6 +121,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
       const double m = k.mass;
       const double inert = k.inertia;
       acc.damping_dissipation += k.alpha_dt * (m * norm2(v_mid) + inert * norm2(w_mid));
+      if constexpr (Local) acc.damping_dissipation += dt * (dot(f_in[i] - f, v_mid) + dot(t_in[i] - t, w_mid));
       if (measure) {
         acc.kinetic_translational += 0.5 * m * norm2(v_mid);
         acc.kinetic_rotational += 0.5 * inert * norm2(w_mid);
@@ -149,13 +158,18 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
                       frac_at_build.data(), cell.h_inverse(), cell.h()};
   IntegrationSums* sums = chunk_sums_.data();
   const bool spheroids = spheroids_;
+  const bool local = local_.coefficient() > 0.0;
 
 #pragma omp parallel for schedule(static, 1)
   for (std::int32_t c = 0; c < nchunks; ++c) {
     const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
     const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
-    sums[c] = spheroids ? advance_chunk<true>(in, i_begin, i_end, measure)
-                        : advance_chunk<false>(in, i_begin, i_end, measure);
+    if (local)
+      sums[c] = spheroids ? advance_chunk<true, true>(in, i_begin, i_end, measure)
+                          : advance_chunk<false, true>(in, i_begin, i_end, measure);
+    else
+      sums[c] = spheroids ? advance_chunk<true, false>(in, i_begin, i_end, measure)
+                          : advance_chunk<false, false>(in, i_begin, i_end, measure);
   }
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);

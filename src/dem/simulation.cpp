@@ -98,15 +98,28 @@ void Simulation::use_huge_pages() {
   reserve_huge(torque_, p.size());
 }
 
+namespace {
+void check_damping(const MassDamping& d) {
+  const std::string bad = damping_parameter_error(d.model(), d.ratio());
+  if (!bad.empty()) throw std::invalid_argument(std::string("damping.") + damping_parameter_name(d.model()) + ": " + bad);
+}
+}  // namespace
+
 void Simulation::update_damping() {
+  const MassDamping& d = settings_.damping;
+  check_damping(d);
   std::vector<double> alpha(particles_.size());
   const Material& m = settings_.material;
   for (std::size_t i = 0; i < particles_.size(); ++i)
-    alpha[i] = settings_.damping.alpha(particles_.radius[i], time_scale_.t0, m.young, m.density);
+    alpha[i] = d.alpha(particles_.radius[i], time_scale_.t0, m.young, m.density);
   integrator_.set_coefficients(particles_, alpha, time_scale_.dt);
+  integrator_.set_local_damping(d.model() == DampingModel::Local ? LocalDamping(d.ratio()) : LocalDamping());
+  contact_forces_.set_viscous_damping(d.model() == DampingModel::Viscous ? ViscousContactDamping(d.ratio())
+                                                                         : ViscousContactDamping());
 }
 
 void Simulation::set_damping(const MassDamping& d) {
+  check_damping(d);  // before anything changes
   settings_.damping = d;
   update_damping();
 }
@@ -211,7 +224,7 @@ bool Simulation::advance(bool measure) {
 
   if (energy_.has_reference) {
     energy_.boundary_work += power * dt;
-    energy_.damping += is.damping_dissipation;
+    energy_.damping += is.damping_dissipation + cs.viscous_dissipation;
     energy_.friction += cs.friction_dissipation;
   }
   if (measure) {

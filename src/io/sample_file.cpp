@@ -365,8 +365,11 @@ void read_settings(const h5::Group& root, dem::SimulationSettings& st, double& t
   const std::string model_text = g.attr_string("damping_model");
   dem::DampingModel model;
   if (!dem::parse_damping_model(model_text, model))
-    g.fail("", "attribute damping_model: is '" + model_text + "', must be OD or ND");
-  const double ratio = read_checked(g, "damping_ratio", non_negative, "finite and >= 0");
+    g.fail("", "attribute damping_model: is '" + model_text + "', must be " + dem::damping_model_names());
+  // damping_ratio holds the model's parameter (xi, e or a; mass_damping.h)
+  const double ratio = read_checked(g, "damping_ratio", finite, "finite");
+  const std::string bad = dem::damping_parameter_error(model, ratio);
+  if (!bad.empty()) g.fail("damping_ratio", bad + " for damping model " + model_text);
   st.damping = dem::MassDamping(model, ratio);
   st.time_step_ratio = read_checked(g, "time_step_ratio", positive, "finite and > 0");
   if (g.has_attr("time_step_basis")) {

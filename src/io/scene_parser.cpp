@@ -205,16 +205,28 @@ void parse_cell(const YAML::Node& node, SceneConfig& cfg) {
   }
 }
 
+/// damping: {model, and the model's one parameter: ratio (OD, ND),
+/// restitution (viscous) or coefficient (local)}; the other parameters are
+/// refused, and the parameter is required when the model changes.
 void parse_damping(const YAML::Node& node, dem::MassDamping& damping) {
-  const Section s(node, "damping", {"model", "ratio"});
+  const Section s(node, "damping", {"model", "ratio", "restitution", "coefficient"});
   dem::DampingModel model = damping.model();
   if (s.has("model")) {
     const std::string m = s.string("model");
     require(dem::parse_damping_model(m, model), s.path("model"),
-            "expected OD (global, eq. 101) or ND (size-dependent, eq. 63), got '" + m + "'");
+            "expected OD (global, eq. 101), ND (size-dependent, eq. 63), viscous (contact dashpots from a "
+            "restitution coefficient) or local (Cundall), got '" + m + "'");
   }
-  const double ratio = non_negative(s, "ratio", damping.ratio());
-  damping = dem::MassDamping(model, ratio);
+  const std::string key = dem::damping_parameter_name(model);
+  for (const char* other : {"ratio", "restitution", "coefficient"})
+    require(other == key || !s.has(other), s.path(other),
+            std::string("not a parameter of damping model ") + dem::to_string(model) + " (it takes " + key + ")");
+  const bool same_kind = dem::damping_parameter_name(damping.model()) == key;
+  require(s.has(key) || same_kind, s.path(key), std::string("required with damping model ") + dem::to_string(model));
+  const double value = s.has(key) ? s.number(key) : damping.ratio();
+  const std::string bad = dem::damping_parameter_error(model, value);
+  require(bad.empty(), s.path(key), bad + ", got " + num(value));
+  damping = dem::MassDamping(model, value);
 }
 
 void parse_stability(const YAML::Node& node, dem::StabilityLimits& lim) {

@@ -403,14 +403,15 @@ bool DemNode::on_set_damping(virtual_triaxial::SetDamping::Request& rq, virtual_
   dem::DampingModel model;
   rs.success = false;
   if (!dem::parse_damping_model(rq.model, model)) {
-    rs.message = "model: '" + rq.model + "' is not OD or ND";
-  } else if (!(std::isfinite(rq.ratio) && rq.ratio >= 0.0)) {
-    rs.message = "ratio: must be a finite number >= 0";
+    rs.message = "model: '" + rq.model + "' is not " + dem::damping_model_names();
+  } else if (const std::string bad = dem::damping_parameter_error(model, rq.ratio); !bad.empty()) {
+    rs.message = "ratio: " + bad + " for damping model " + dem::to_string(model);
   } else {
     sim_->set_damping(dem::MassDamping(model, rq.ratio));
     if (reconfigure_) reconfigure_->sync();
     rs.success = true;
-    rs.message = std::string("damping ") + dem::to_string(model) + " xi " + std::to_string(rq.ratio);
+    rs.message = std::string("damping ") + dem::to_string(model) + " " + dem::damping_parameter_name(model) + " " +
+                 std::to_string(rq.ratio);
   }
   return true;
 }

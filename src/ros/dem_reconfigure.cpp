@@ -36,17 +36,19 @@ void DemReconfigure::on_reconfigure(virtual_triaxial::DemConfig& c, std::uint32_
 
   dem::DampingModel model = old.model();
   if (!dem::parse_damping_model(c.damping_model, model)) {
-    ROS_WARN("dem_node: live tuning: ~damping_model '%s' refused (damping_model: must be OD or ND); keeping %s",
-             c.damping_model.c_str(), old_model.c_str());
+    ROS_WARN("dem_node: live tuning: ~damping_model '%s' refused (damping_model: must be %s); keeping %s",
+             c.damping_model.c_str(), dem::damping_model_names(), old_model.c_str());
     model = old.model();
   }
   c.damping_model = dem::to_string(model);
 
   double ratio = c.damping_ratio;
-  if (!(std::isfinite(ratio) && ratio >= 0.0)) {
-    ROS_WARN("dem_node: live tuning: ~damping_ratio %g refused (damping_ratio: must be a finite number >= 0); "
-             "keeping %g",
-             ratio, old.ratio());
+  if (const std::string bad = dem::damping_parameter_error(model, ratio); !bad.empty()) {
+    ROS_WARN("dem_node: live tuning: ~damping_ratio %g refused (damping_ratio: %s for damping model %s); "
+             "keeping %s %g",
+             ratio, bad.c_str(), dem::to_string(model), old_model.c_str(), old.ratio());
+    model = old.model();
+    c.damping_model = old_model;
     ratio = old.ratio();
   }
   c.damping_ratio = ratio;

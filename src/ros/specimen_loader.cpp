@@ -14,9 +14,13 @@ namespace vt::ros {
 std::string SpecimenOverrides::validate() const {
   dem::DampingModel m;
   if (damping_model && !dem::parse_damping_model(*damping_model, m))
-    return "damping_model: '" + *damping_model + "' is not OD or ND";
-  if (damping_ratio && !(std::isfinite(*damping_ratio) && *damping_ratio >= 0.0))
+    return "damping_model: '" + *damping_model + "' is not " + dem::damping_model_names();
+  if (damping_model && damping_ratio) {
+    const std::string bad = dem::damping_parameter_error(m, *damping_ratio);
+    if (!bad.empty()) return "damping_ratio: " + bad + " for damping model " + *damping_model;
+  } else if (damping_ratio && !(std::isfinite(*damping_ratio) && *damping_ratio >= 0.0)) {
     return "damping_ratio: must be a finite number >= 0";
+  }
   if (time_step_ratio && !(std::isfinite(*time_step_ratio) && *time_step_ratio > 0.0))
     return "time_step_ratio: must be a finite number > 0";
   return "";

@@ -19,6 +19,9 @@
 // the storage order (fixed during a run) but not on the thread count or on
 // when the list is rebuilt.
 // Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
+// With viscous contact damping (set_viscous_damping) each contact's force
+// also holds its dashpots, evaluated with the same v_c (so they enter the
+// stress, the torques and the sums like the springs).
 //
 // Spheroids (chapter 4; used only when NeighborList::has_spheroids(), so a
 // sample of spheres never runs this code): pairs whose bounding spheres
@@ -69,6 +72,7 @@
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/spheroid_contact.h"
+#include "virtual_triaxial/dem/viscous_contact_damping.h"
 
 namespace vt::dem {
 
@@ -77,6 +81,7 @@ struct ContactSums {
   Mat3 virial;                      ///< sum d (x) F_on_j [N m]; /V = stress, compression positive
   double elastic_energy = 0;        ///< [J] (only when measuring)
   double friction_dissipation = 0;  ///< this step [J]
+  double viscous_dissipation = 0;   ///< by the contact dashpots, this step [J] (viscous_contact_damping.h)
   double max_overlap_ratio = 0;     ///< max delta / min(R_i, R_j)
   std::int64_t contacts = 0;
   std::int64_t sliding = 0;
@@ -124,6 +129,10 @@ class ContactForces {
   /// (sysconf(_SC_LEVEL2_CACHE_SIZE), 512 KiB when unknown); 0 always takes
   /// the pair loop, SIZE_MAX always the gather.
   void set_pair_loop_sum_threshold(std::size_t bytes) { pair_loop_bytes_ = bytes; }
+  /// Viscous contact dashpots in every contact (viscous_contact_damping.h);
+  /// a default-constructed one (e = 1) turns them off, and the pair loop is
+  /// then the one without dashpots (a separate instantiation).
+  void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop.
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
@@ -145,6 +154,7 @@ class ContactForces {
   bool sleep_ = false;
   std::size_t pair_loop_bytes_ = default_pair_loop_sum_threshold();
   bool pair_loop_sums_ = false;
+  double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   static std::size_t default_pair_loop_sum_threshold();
   std::vector<double> hertz_radius_;     ///< spheroid path: R_i of eq. 104 per particle, every call
 };

@@ -8,6 +8,10 @@
 // then the position update of eq. 131 in fractional coordinates:
 //   s(t+dt) = s(t) + H(t+dt)^-1 v(t+dt/2) dt        (the cell carries L x).
 // Spheres need only omega (no orientation integration).
+// With Cundall's local damping (set_local_damping, local_damping.h; then
+// alpha = 0) F and M above are the locally damped force and moment, and the
+// damping dissipation of the step is (F - F_d) . v_mid dt + (M - M_d) . w_mid dt,
+// by the same identity.
 //
 // Spheroids (chapter 4; only when the particles include any): Euler's
 // equations in the body frame (eq. 43) with the rotational damping moment
@@ -33,6 +37,7 @@
 
 #include <vector>
 
+#include "virtual_triaxial/dem/local_damping.h"
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
@@ -56,6 +61,10 @@ class LeapfrogIntegrator {
  public:
   /// Per-particle damping coefficients alpha [1/s]; dt [s].
   void set_coefficients(const Particles& p, const std::vector<double>& alpha, double dt);
+  /// Cundall's local damping (local_damping.h) on every particle's force and
+  /// moment; a coefficient of 0 (the default) turns it off, and the loop is
+  /// then the one without it (a separate instantiation).
+  void set_local_damping(const LocalDamping& d) { local_ = d; }
   const std::vector<double>& alpha() const { return alpha_; }
   /// True when the particles given to set_coefficients include spheroids.
   bool has_spheroids() const { return spheroids_; }
@@ -90,12 +99,13 @@ class LeapfrogIntegrator {
     Mat3 hinv, h;
   };
   /// Particles [i_begin, i_end); Spheroids = false is the plain sphere loop.
-  template <bool Spheroids>
+  template <bool Spheroids, bool Local>
   IntegrationSums advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
                                 bool measure) const;
 
   double dt_ = 0;
   bool spheroids_ = false;
+  LocalDamping local_;
   std::vector<double> alpha_;
   std::vector<Coefficients> coef_;
   std::vector<SymmetricStepConstants> rot_coef_;  ///< spheroids (empty without any)

@@ -111,6 +111,8 @@ class Simulation {
   /// Per-axis strain rates [1/s], extension positive (mechanics convention).
   void set_strain_rates(const Vec3& rates) { cell_.set_strain_rates(rates); }
   Vec3 strain_rates() const { return cell_.strain_rates(); }
+  /// Throws std::invalid_argument ("damping.<parameter>: reason") when the
+  /// parameter does not suit the model (nothing changes then).
   void set_damping(const MassDamping& d);
   void set_friction(double mu);
   void set_time_step_ratio(double ct);
