@@ -119,7 +119,7 @@ class SweepFiles(unittest.TestCase):
             self.assertEqual(r.stderr.count("\n"), 1, r.stderr)
         # the refusal of a value comes with triax_run's own reason
         r = sweep(["check", self.write(self.base_doc(parameters={"damping.ratio": [0.01, -1.0]}))])
-        self.assertIn("damping.ratio: must be >= 0", r.stderr)
+        self.assertIn("damping.ratio: must be a finite damping ratio >= 0, got -1", r.stderr)
 
     def test_grid_and_zip_order_and_generated_inputs(self):
         params = {"stages[0].strain_rate_dimensionless": [1e-4, 5e-5], "damping.ratio": [0.003, 0.01, 0.1]}
