@@ -31,7 +31,7 @@ VT_DEB_PACKAGES=(
   # specimen views: RViz markers (dem_node) and the VTK read-back tests
   libvisualization-msgs-dev python3-vtk9
   # process and socket tools the entry scripts and their tests use
-  procps iproute2 util-linux
+  procps iproute2 bc util-linux
   # triax_sweep's Slurm backend: the one-node test cluster (tests/sweep/)
   slurm-wlm munge python3-yaml
   # toolchain (normally present; a bare CI image may lack it)
