@@ -1,17 +1,11 @@
 #include "virtual_triaxial/quasi_static/inertial_number.h"
+#include "virtual_triaxial/quasi_static/input_checks.h"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace vt::quasi_static {
-namespace {
-void require_positive(double v, const char* name) {
-  if (!(std::isfinite(v) && v > 0.0))
-    throw std::invalid_argument(std::string(name) + ": must be finite and > 0");
-}
-}  // namespace
-
 double fitted_inertial_threshold(QsDamping model) {
   return model == QsDamping::ND ? 5.8e-4 : 3.7e-4;
 }
@@ -27,8 +21,7 @@ double inertial_number(double strain_rate, double d_avg, double density, double 
 double eq72_rate(const QsSample& sample, double inertial_threshold) {
   require_positive(inertial_threshold, "inertial_threshold");
   require_positive(sample.sigma_bar0, "sigma_bar0");
-  if (!(std::isfinite(sample.dispersity_index) && sample.dispersity_index >= 1.0))
-    throw std::invalid_argument("dispersity_index: must be finite and >= 1");
+  require_dispersity_index(sample.dispersity_index);
   return inertial_threshold * std::sqrt(sample.sigma_bar0) / sample.dispersity_index;
 }
 

@@ -1,4 +1,5 @@
 #include "virtual_triaxial/quasi_static/qs_rate_prediction.h"
+#include "virtual_triaxial/quasi_static/input_checks.h"
 
 #include <cctype>
 #include <cmath>
@@ -12,11 +13,6 @@ constexpr double kExpVoid = -4.0;       // eq. 78
 constexpr double kExpStress = 0.67;     // eq. 79
 
 double delta_exponent(QsDamping m) { return m == QsDamping::ND ? -2.0 : -2.5; }  // eq. 81
-
-void require_positive(double v, const char* name) {
-  if (!(std::isfinite(v) && v > 0.0))
-    throw std::invalid_argument(std::string(name) + ": must be finite and > 0");
-}
 
 }  // namespace
 
@@ -34,8 +30,7 @@ QsRatePrediction predict_qs_rate(const QsSample& s, QsDamping model, double thre
   require_positive(s.void_ratio, "void_ratio");
   require_positive(s.sigma_bar0, "sigma_bar0");
   require_positive(threshold, "threshold");
-  if (!(std::isfinite(s.dispersity_index) && s.dispersity_index >= 1.0))
-    throw std::invalid_argument("dispersity_index: must be finite and >= 1");
+  require_dispersity_index(s.dispersity_index);
   QsRatePrediction p;
   p.exponent_delta = delta_exponent(model);
   p.threshold = threshold;

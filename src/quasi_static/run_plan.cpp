@@ -1,17 +1,11 @@
 #include "virtual_triaxial/quasi_static/run_plan.h"
+#include "virtual_triaxial/quasi_static/input_checks.h"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace vt::quasi_static {
-namespace {
-void require_positive(double v, const char* name) {
-  if (!(std::isfinite(v) && v > 0.0))
-    throw std::invalid_argument(std::string(name) + ": must be finite and > 0");
-}
-}  // namespace
-
 RunPlan plan_run(double final_strain, double eps_prime, double time_step_ratio,
                  std::int64_t particles, double seconds_per_particle_step) {
   require_positive(final_strain, "final_strain");
