@@ -9,11 +9,24 @@
 //   triax_qs fit-damping --run XI,EPS',SUMMARY.json [--run ...] [--threshold I]
 //       optimum damping ratio (parabola in ln xi - ln I_mom), eq. 86 and the
 //       damping-based phi_QS (eq. 74 over xi >= xi_opt).
+//   triax_qs rate-sweep PROTOCOL.yaml --rates 1e-5,5e-6,2e-6 [--jobs J] [--out DIR]
+//                       [--backend local|slurm] [--threshold I]
+//   triax_qs damping-sweep PROTOCOL.yaml --ratios ... --model OD|ND --rate EPS' [...]
+//       run the shear stage at each rate (damping ratio) through triax_sweep's
+//       code (parallel, resumable, local or Slurm), then fit-rates /
+//       fit-damping on the finished runs, and write a report folder. These
+//       two exec scripts/triax_qs_sweep (Python, package vt_qs_sweep), which
+//       calls this program back for the fits: the sweeps have their home in
+//       vt_sweep, the fits here.
 // Progress and messages on stderr; the result is the last stdout line, one
 // JSON object with unit-named keys. Exit codes as triax_run's: 0 done,
 // 2 bad input (one line naming the field).
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -37,7 +50,9 @@ namespace {
 const char* kUsage =
     "usage: triax_qs predict PROTOCOL.yaml [--cost SECONDS_PER_PARTICLE_STEP]\n"
     "       triax_qs fit-rates --run EPS',SUMMARY.json --run ... [--threshold I_QS]\n"
-    "       triax_qs fit-damping --run XI,EPS',SUMMARY.json --run ... [--threshold I_QS]\n";
+    "       triax_qs fit-damping --run XI,EPS',SUMMARY.json --run ... [--threshold I_QS]\n"
+    "       triax_qs rate-sweep PROTOCOL.yaml --rates 1e-5,5e-6,2e-6 [--jobs J] [--out DIR] [--backend local|slurm]\n"
+    "       triax_qs damping-sweep PROTOCOL.yaml --ratios 0.001,0.003,0.01 --model OD|ND --rate EPS' [...]\n";
 
 struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -146,7 +161,7 @@ std::string fit_damping(const std::vector<Run>& runs, double threshold) {
   std::fprintf(stderr, "triax_qs: optimum damping ratio %.4g %% (I_mom %.4g)\n", 100 * opt.ratio, opt.min_i_mom);
   try {
     const qs::FrictionLineFit line = qs::fit_friction_line_above_optimum(fp, opt.ratio);
-    o += ",\"phi_qs_damping_based_deg\":" + num(line.phi_qs_deg) +
+    o += ",\"phi_qs_damping_based_deg\":" + num(line.phi_qs_deg) + ",\"k_damping_based\":" + num(line.slope) +
          ",\"se_phi_qs_damping_based_deg\":" + num(line.se_phi_qs_deg) +
          ",\"runs_above_optimum\":" + std::to_string(line.points);
     const qs::RateSweepFit f = qs::fit_damping_rate_product(rp, opt.ratio, threshold);
@@ -158,9 +173,36 @@ std::string fit_damping(const std::vector<Run>& runs, double threshold) {
   return o + "}";
 }
 
+/// rate-sweep / damping-sweep: replaces this process by scripts/triax_qs_sweep
+/// (its exit code is the command's); VT_PROGRAM_DIR / VT_TRIAX_QS tell it
+/// where triax_run and this program are.
+int exec_sweep(int argc, char** argv) {
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    self[n] = '\0';
+    std::string dir(self);
+    dir = dir.substr(0, dir.find_last_of('/'));
+    setenv("VT_PROGRAM_DIR", dir.c_str(), 0);
+    setenv("VT_TRIAX_QS", self, 0);
+  }
+  std::string script = std::string(VT_SCRIPTS_DIR) + "/triax_qs_sweep";
+  std::vector<char*> args;
+  std::string python = "/usr/bin/python3";
+  args.push_back(python.data());
+  args.push_back(script.data());
+  for (int i = 1; i < argc; ++i) args.push_back(argv[i]);
+  args.push_back(nullptr);
+  std::fflush(nullptr);
+  execv(args[0], args.data());
+  std::fprintf(stderr, "triax_qs: error: %s: cannot start %s: %s\n", argv[1], script.c_str(), std::strerror(errno));
+  return 2;
+}
+
 int run(int argc, char** argv) {
-  if (argc < 2) throw BadInput("command: missing (predict, fit-rates or fit-damping)");
+  if (argc < 2) throw BadInput("command: missing (predict, fit-rates, fit-damping, rate-sweep or damping-sweep)");
   const std::string cmd = argv[1];
+  if (cmd == "rate-sweep" || cmd == "damping-sweep") return exec_sweep(argc, argv);
   std::string protocol;
   std::vector<std::string> runs;
   double cost = 0.0, threshold = 1e-3;
@@ -216,7 +258,7 @@ int run(int argc, char** argv) {
     std::fputs(kUsage, stderr);
     return 0;
   } else {
-    throw BadInput("command: unknown '" + cmd + "' (predict, fit-rates or fit-damping)");
+    throw BadInput("command: unknown '" + cmd + "' (predict, fit-rates, fit-damping, rate-sweep or damping-sweep)");
   }
   std::printf("%s\n", json.c_str());
   return 0;
