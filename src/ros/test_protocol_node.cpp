@@ -14,6 +14,7 @@
 #include "virtual_triaxial/io/text_file.h"
 #include "virtual_triaxial/ros/parameters.h"
 #include "virtual_triaxial/ros/protocol_session.h"
+#include "virtual_triaxial/ros/qs_advice_service.h"
 
 namespace vt::ros {
 
@@ -50,6 +51,7 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
   command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 1000, true);
   status_pub_ = nh_.advertise<virtual_triaxial::ProtocolStatus>("protocol_status", 1000, true);
   abort_srv_ = pnh_.advertiseService("abort", &TestProtocolNode::on_abort, this);
+  predict_srv_ = pnh_.advertiseService("predict_quasi_static", &TestProtocolNode::on_predict, this);
   virtual_triaxial::ProtocolStatus idle;
   idle.state = "idle";
   status_pub_.publish(idle);
@@ -100,6 +102,36 @@ bool TestProtocolNode::on_abort(std_srvs::Trigger::Request&, std_srvs::Trigger::
   abort_ = true;
   rs.success = true;
   rs.message = "the test stops at the next control tick";
+  return true;
+}
+
+bool TestProtocolNode::on_predict(virtual_triaxial::PredictQuasiStatic::Request& rq,
+                                  virtual_triaxial::PredictQuasiStatic::Response& rs) {
+  std::string path;
+  if (!rq.protocol_file.empty() && !rq.protocol_yaml.empty()) {
+    rs.message = "protocol_file: give at most one of protocol_file and protocol_yaml";
+  } else if (!rq.protocol_file.empty()) {
+    path = fs::absolute(rq.protocol_file).string();
+  } else if (!rq.protocol_yaml.empty()) {
+    const fs::path p = fs::absolute(output_dir_) / "predict_protocol.yaml";
+    try {
+      std::error_code ec;
+      fs::create_directories(p.parent_path(), ec);
+      io::write_text_atomic(p.string(), rq.protocol_yaml);
+      path = p.string();
+    } catch (const io::WriteError& e) {
+      rs.message = std::string("protocol_yaml: ") + e.what();
+    }
+  } else {
+    const std::lock_guard<std::mutex> lock(protocol_mutex_);
+    path = last_protocol_;
+    if (path.empty()) rs.message = "protocol_file: empty, and no test has run yet (give a protocol)";
+  }
+  if (path.empty()) {
+    rs.success = false;
+    return true;
+  }
+  answer_qs_advice(path, rq.cost_per_particle_step, rs);
   return true;
 }
 
@@ -217,6 +249,10 @@ void TestProtocolNode::execute(GoalHandle gh) {
     fs::create_directories(dir, ec);
     if (ec) throw io::SceneError("output_dir", "cannot create " + dir.string() + ": " + ec.message());
     path = protocol_path(*goal, dir);
+    {
+      const std::lock_guard<std::mutex> lock(protocol_mutex_);
+      last_protocol_ = path;
+    }
     scene = io::load_scene(path);
   } catch (const io::SceneError& e) {
     return refuse("failed", std::string("protocol: ") + e.what());

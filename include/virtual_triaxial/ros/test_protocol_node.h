@@ -23,6 +23,12 @@
 //           the test: it stops at the next tick, the summary says "preempted".
 //   service ~abort (std_srvs/Trigger): ends the running test at the next tick
 //           with the verdict "aborted".
+//   service ~predict_quasi_static (virtual_triaxial/PredictQuasiStatic): the
+//           eq. 83-85 prediction of eps'_QS and the shear stage's run plan
+//           for a protocol's sample (default: the last test's protocol),
+//           as `triax_qs predict` (ros/qs_advice_service.h). The result of a
+//           test states the I_QS of its quasi-static verdict
+//           (quasi_static_threshold).
 //   topic   protocol_status (virtual_triaxial/ProtocolStatus) on sample ticks
 //           and at every change of state.
 //
@@ -74,6 +80,7 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include "virtual_triaxial/PredictQuasiStatic.h"
 #include "virtual_triaxial/RunTestAction.h"
 #include "virtual_triaxial/io/scene_config.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
@@ -102,6 +109,8 @@ class TestProtocolNode {
   void arm(TickJudge judge, std::uint64_t start);
   void answer(std::uint64_t tick);  ///< empty cell_command for `tick`
   bool on_abort(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+  bool on_predict(virtual_triaxial::PredictQuasiStatic::Request& rq,
+                  virtual_triaxial::PredictQuasiStatic::Response& rs);
 
   ::ros::NodeHandle nh_, pnh_;
   ::ros::NodeHandle tick_nh_;         ///< nh_ on inline_queue_ (state subscriptions)
@@ -130,7 +139,9 @@ class TestProtocolNode {
   actionlib::ActionServer<virtual_triaxial::RunTestAction> server_;
   ::ros::Publisher status_pub_, command_pub_;
   ::ros::Subscriber stress_sub_, strain_sub_, moment_sub_, energy_sub_, fabric_sub_;
-  ::ros::ServiceServer abort_srv_;
+  ::ros::ServiceServer abort_srv_, predict_srv_;
+  std::mutex protocol_mutex_;   ///< guards last_protocol_
+  std::string last_protocol_;   ///< the protocol file of the last goal
 };
 
 }  // namespace vt::ros
