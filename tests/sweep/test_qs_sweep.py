@@ -11,6 +11,8 @@ second each, tests/data/protocols/qs_sweep_mini.yaml).
   and the last stdout line is the result, keys named with their units;
 - resumability: a second call with one more rate runs only that one (the
   finished runs' files keep their inode and mtime);
+- a run that fails (unstable, exit 3) is reported with its message, the
+  others are fitted, and the command exits with the run's code;
 - damping sweep: the optimum xi of four real runs lies between the
   neighbours of the lowest run, as triax_qs fit-damping finds it;
 - bad input: exit code 2 and one line naming the option or field.
@@ -117,6 +119,27 @@ class RateSweep(unittest.TestCase):
             self.assertEqual(after[d], s, d)
         self.assertEqual(res2["runs_completed"], 4)
         self.assertEqual(len(read_csv(os.path.join(out, "runs.csv"))), 4)
+
+
+class FailedRun(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="vt_qs_failed_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def test_unstable_run_is_reported_and_the_rest_fitted(self):
+        # eps' = 0.05 overlaps the particles beyond the limit: triax_run exits 3
+        out = os.path.join(self.tmp, "report")
+        code, res, err = qs(["rate-sweep", PROTOCOL, "--rates", "0.05,1e-4,5e-5", "--out", out])
+        self.assertEqual(code, 3, err)
+        self.assertEqual((res["runs"], res["runs_completed"], res["runs_failed"]), (3, 2, 1))
+        runs = read_csv(os.path.join(out, "runs.csv"))
+        self.assertEqual([r["status"] for r in runs], ["failed", "completed", "completed"])
+        self.assertEqual(runs[0]["exit_code"], "3")
+        self.assertIn("overlap", runs[0]["message"])
+        self.assertIn("eps_prime_qs_eq73", res)          # fitted on the two completed runs
+        self.assertNotIn("eps_prime_qs_eq73_low_1se", res)  # two points: no uncertainty to state
 
 
 class DampingSweep(unittest.TestCase):
