@@ -8,9 +8,11 @@
 #   VT_NETNS=0 ... do not run the rig in its own network namespace
 #   SNAPSHOTS=0 ...   no specimen snapshots (and no specimen picture)
 #
-# Default protocol: config/protocols/drained_100kPa.yaml (the shipped dense
-# 1000-sphere sample, servo consolidation at 100 kPa, drained shear at
-# eps' = 1e-5 to 10 % axial strain).
+# Default protocol: config/protocols/drained_100kPa_adaptive.yaml (the
+# shipped dense 1000-sphere sample, servo consolidation at 100 kPa, a
+# quasi-static drained shear to 5 % axial strain at the adaptive rate of the
+# rate controller node, time step from the contacts). The fast, NOT
+# quasi-static variant: config/protocols/drained_100kPa.yaml (eps' = 1e-5).
 #
 # What it does: installs what is missing and builds (lib/ensure_built.sh);
 # then runs the rig in a network namespace of its own that holds only the
@@ -71,7 +73,7 @@ fi
 export VT_IN_NETNS="${VT_IN_NETNS:-0}"
 PATH="/usr/bin:${PATH}"
 
-protocol="$(realpath "${1:-config/protocols/drained_100kPa.yaml}")"
+protocol="$(realpath "${1:-config/protocols/drained_100kPa_adaptive.yaml}")"
 [[ -f "${protocol}" ]] || { echo "[rig] ERROR: protocol: no such file: ${protocol}" >&2; exit 2; }
 out="$(mkdir -p "${OUT:-output/default}" && cd "${OUT:-output/default}" && pwd)"
 servo_node="${SERVO_NODE:-servo_controller_node}"

@@ -5,7 +5,8 @@ its program has exited, writes `status.json` and renames the folder to
 `OUT/runs/ID` in one step, so `runs/ID` is either absent or complete:
   status.json   id, index, values, status (completed | failed), exit_code,
                 message (the program's one-line error or failure), wall
-                seconds, host, backend, UTC start and end
+                seconds, CPU seconds (user + system of the program), host,
+                backend, UTC start and end
   summary.json  the program's JSON summary (its last stdout line)
   run.log       the program's stderr (progress, warnings, errors)
   protocol.yaml the generated input (triax_run), results.h5 (triax_run's
@@ -101,8 +102,12 @@ def run_one(out, index, backend="local"):
     env = dict(os.environ, OMP_NUM_THREADS=str(plan["threads"]))
     started, t0 = _utc(), time.monotonic()
     with open(os.path.join(work, "stdout.txt"), "w") as so, open(os.path.join(work, "run.log"), "w") as se:
+        cpu = 0.0
         try:
-            code = subprocess.call(cmd, cwd=work, env=env, stdout=so, stderr=se, preexec_fn=die_with_parent())
+            child = subprocess.Popen(cmd, cwd=work, env=env, stdout=so, stderr=se, preexec_fn=die_with_parent())
+            _, wstatus, usage = os.wait4(child.pid, 0)  # the program's own CPU time, whatever else runs
+            child.returncode = code = os.waitstatus_to_exitcode(wstatus)
+            cpu = usage.ru_utime + usage.ru_stime
         except OSError as e:
             se.write(f"{name}: error: cannot start {program}: {e.strerror}\n")
             code = 127
@@ -119,7 +124,7 @@ def run_one(out, index, backend="local"):
     status = {
         "id": run["id"], "index": index, "values": run["values"], "status": "completed" if ok else "failed",
         "exit_code": code, "message": "" if ok else _message(name, code, summary, log),
-        "wall_seconds": wall, "host": host, "backend": backend, "started_utc": started, "finished_utc": _utc(),
+        "wall_seconds": wall, "cpu_seconds": cpu, "host": host, "backend": backend, "started_utc": started, "finished_utc": _utc(),
     }
     if line:
         write_atomic(os.path.join(work, "summary.json"), line + "\n")

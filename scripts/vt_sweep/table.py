@@ -48,7 +48,7 @@ def collect(out):
             st = read_status(out, run["id"])
             row.update(status=st["status"], exit_code=st["exit_code"], message=st["message"])
             timing.append({"run": run["id"], "status": st["status"], "wall_seconds": st["wall_seconds"],
-                           "host": st["host"], "backend": st["backend"], "started_utc": st["started_utc"],
+                           "cpu_seconds": st.get("cpu_seconds", ""), "host": st["host"], "backend": st["backend"], "started_utc": st["started_utc"],
                            "finished_utc": st["finished_utc"]})
             path = os.path.join(out, "runs", run["id"], "summary.json")
             if os.path.isfile(path):
@@ -136,7 +136,7 @@ def write_tables(out):
     plan = read_plan(out)
     columns, rows, timing = collect(out)
     write_atomic(os.path.join(out, "sweep.csv"), _csv_text(columns, rows))
-    tcols = ["run", "status", "wall_seconds", "host", "backend", "started_utc", "finished_utc"]
+    tcols = ["run", "status", "wall_seconds", "cpu_seconds", "host", "backend", "started_utc", "finished_utc"]
     write_atomic(os.path.join(out, "sweep_timing.csv"), _csv_text(tcols, timing))
     _write_h5(os.path.join(out, "sweep.h5"), plan, columns, rows)
     return columns, rows

@@ -12,6 +12,11 @@ ResultsRecorder::ResultsRecorder(const std::string& path, bool quiet, double flu
 
 void ResultsRecorder::on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) {
   if (quiet_) return;
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
+    std::fprintf(stderr, "[%s] start: %s, strain rate by the %s rate strategy\n", st.name.c_str(),
+                 protocol::to_string(st.type), control::to_string(st.rate_spec.strategy));
+    return;
+  }
   const double rate = st.strain_rate ? *st.strain_rate
                                      : (st.strain_rate_dimensionless ? *st.strain_rate_dimensionless / sim.time_scale().t0 : 0.0);
   std::fprintf(stderr, "[%s] start: %s, strain rate %.4g 1/s (eps' = %.3g)\n", st.name.c_str(),
@@ -62,6 +67,7 @@ void ResultsRecorder::finish(const protocol::RunReport& r, const RunContext& ctx
     num["strain_rate_dimensionless_max"] = r.shear.strain_rate_max;
     num["quasi_static_threshold"] = r.shear.quasi_static_threshold;
     txt["quasi_static"] = r.shear.quasi_static ? "yes" : "no";
+    txt["phi_peak_basis"] = protocol::phi_peak_basis(r.shear);
   }
   num["energy_relative_balance_error"] = ctx.energy_relative_balance_error;
   if (ctx.spheroid_contact_solves > 0) {

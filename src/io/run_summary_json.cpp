@@ -68,7 +68,8 @@ std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx
       << ",\"strain_rate_dimensionless_min\":" << number(r.shear.strain_rate_min)
       << ",\"strain_rate_dimensionless_max\":" << number(r.shear.strain_rate_max)
       << ",\"quasi_static_threshold\":" << number(r.shear.quasi_static_threshold)
-      << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false");
+      << ",\"quasi_static\":" << (r.shear.quasi_static ? "true" : "false")
+      << ",\"phi_peak_basis\":" << quoted(protocol::phi_peak_basis(r.shear));
   }
   if (ctx.spheroid_contact_solves > 0)
     o << ",\"spheroid_contact_solves\":" << ctx.spheroid_contact_solves

@@ -18,6 +18,8 @@ protocol::RunOptions SceneConfig::run_options() const {
   o.control_interval = control.interval;
   o.servo = control.servo;
   o.quasi_static_threshold = control.quasi_static_threshold;
+  o.young_modulus = material.young;  // the runners set the specimen's own (a sample file's) per stage
+  o.qs_damping = damping.model() == dem::DampingModel::ND ? quasi_static::QsDamping::ND : quasi_static::QsDamping::OD;
   return o;
 }
 

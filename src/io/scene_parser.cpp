@@ -317,10 +317,41 @@ void parse_stop(const Section& stage, StageType type, StopCriteria& stop) {
           s.path(), std::string("needs at least one of ") + all);
 }
 
+/// `rate: {strategy: fixed|predicted|adaptive, target, min, max, max_change,
+/// smoothing_ticks, response_ticks, sensitivity}` (control/rate_strategy.h).
+void parse_rate(const Section& stage, StageType type, control::RateSpec& rate) {
+  const Section s(stage.get("rate"), stage.path("rate"),
+                  {"strategy", "target", "min", "max", "max_change", "smoothing_ticks", "response_ticks",
+                   "sensitivity"});
+  const std::string name = lower(s.string_or("strategy", "fixed"));
+  require(control::parse_rate_strategy(name, rate.strategy), s.path("strategy"),
+          "unknown rate strategy '" + name + "'; allowed: fixed, predicted, adaptive");
+  require(rate.strategy == control::RateStrategyKind::Fixed || type == StageType::DrainedShear, s.path("strategy"),
+          "'" + name + "' only on drained_shear stages (it follows the moment index while the servo holds "
+          "the lateral stress)");
+  control::AdaptiveRateParameters& a = rate.adaptive;
+  const bool adaptive = rate.strategy == control::RateStrategyKind::Adaptive;
+  for (const char* key : {"min", "max", "max_change", "smoothing_ticks", "response_ticks", "sensitivity"})
+    require(adaptive || !s.has(key), s.path(key), "only for strategy adaptive");
+  require(rate.strategy != control::RateStrategyKind::Fixed || !s.has("target"), s.path("target"),
+          "only for strategies predicted and adaptive");
+  a.target = s.number_or("target", adaptive ? a.target : 1.0);
+  a.min_dimensionless = s.number_or("min", a.min_dimensionless);
+  a.max_dimensionless = s.number_or("max", a.max_dimensionless);
+  a.max_change = s.number_or("max_change", a.max_change);
+  a.smoothing_ticks = s.number_or("smoothing_ticks", a.smoothing_ticks);
+  a.response_ticks = s.number_or("response_ticks", a.response_ticks);
+  a.sensitivity = s.number_or("sensitivity", a.sensitivity);
+  control::AdaptiveRateParameters check = a;
+  check.t0 = 1.0;  // T0 is the sample's, known at the run
+  const std::string bad = control::validate(check);  // "<field>: <reason>"
+  if (!bad.empty()) throw SceneError(s.path(bad.substr(0, bad.find(':'))), bad.substr(bad.find(':') + 2));
+}
+
 StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
   const Section s(node, index("stages", i),
                   {"name", "type", "strain_rate_dimensionless", "strain_rate", "confining_pressure", "axial_axis",
-                   "stop"});
+                   "stop", "rate"});
   StageSpec st;
   st.name = s.string_or("name", "stage" + std::to_string(i));
   require(!st.name.empty(), s.path("name"), "must be a non-empty string");
@@ -336,7 +367,13 @@ StageSpec parse_stage(const YAML::Node& node, std::size_t i) {
 
   const bool has_dimless = s.has("strain_rate_dimensionless");
   const bool has_rate = s.has("strain_rate");
-  if (st.type == StageType::Relax || st.type == StageType::IsotropicConsolidation) {
+  if (s.has("rate")) parse_rate(s, st.type, st.rate_spec);
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
+    for (const char* key : {"strain_rate_dimensionless", "strain_rate"})
+      require(!s.has(key), s.path(key),
+              std::string("not used with rate.strategy ") + control::to_string(st.rate_spec.strategy) +
+                  " (the rate starts from the eq. 84 prediction of the specimen); remove it");
+  } else if (st.type == StageType::Relax || st.type == StageType::IsotropicConsolidation) {
     for (const char* key : {"strain_rate_dimensionless", "strain_rate"})
       require(!s.has(key), s.path(key),
               std::string("not allowed for a ") + protocol::to_string(st.type) +

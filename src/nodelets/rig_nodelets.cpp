@@ -3,6 +3,7 @@
 //
 //   virtual_triaxial/DemNodelet            = dem_node
 //   virtual_triaxial/ServoControllerNodelet = servo_controller_node
+//   virtual_triaxial/RateControllerNodelet = rate_controller_node
 //   virtual_triaxial/TestProtocolNodelet   = test_protocol_node
 //   virtual_triaxial/BagRecorderNodelet    = bag_recorder (the entry script's recorder)
 //
@@ -36,6 +37,7 @@
 
 #include "virtual_triaxial/ros/bag_recorder.h"
 #include "virtual_triaxial/ros/dem_node.h"
+#include "virtual_triaxial/ros/rate_controller_node.h"
 #include "virtual_triaxial/ros/servo_controller_node.h"
 #include "virtual_triaxial/ros/test_protocol_node.h"
 
@@ -96,6 +98,13 @@ class ServoControllerNodelet : public QueueThreadNodelet<vt::ros::ServoControlle
     return std::make_unique<vt::ros::ServoControllerNode>(nh, pnh, true);
   }
 };
+/// rate_controller_node; its moment_index callback runs inline like the servo's.
+class RateControllerNodelet : public QueueThreadNodelet<vt::ros::RateControllerNode> {
+  std::unique_ptr<vt::ros::RateControllerNode> make(const ::ros::NodeHandle& nh,
+                                                     const ::ros::NodeHandle& pnh) override {
+    return std::make_unique<vt::ros::RateControllerNode>(nh, pnh, true);
+  }
+};
 using TestProtocolNodelet = QueueThreadNodelet<vt::ros::TestProtocolNode>;
 
 /// bag_recorder in the rig's process (ros/bag_recorder.h), with the rig's
@@ -141,5 +150,6 @@ class BagRecorderNodelet : public nodelet::Nodelet {
 
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::DemNodelet, nodelet::Nodelet)
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::ServoControllerNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(vt::nodelets::RateControllerNodelet, nodelet::Nodelet)
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::TestProtocolNodelet, nodelet::Nodelet)
 PLUGINLIB_EXPORT_CLASS(vt::nodelets::BagRecorderNodelet, nodelet::Nodelet)

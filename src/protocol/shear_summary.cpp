@@ -1,5 +1,7 @@
 #include "virtual_triaxial/protocol/shear_summary.h"
 
+#include <cstdio>
+
 namespace vt::protocol {
 
 void ShearSummaryBuilder::add(const dem::Measures& m, double weight) {
@@ -33,6 +35,28 @@ ShearSummary ShearSummaryBuilder::summary() const {
   s.quasi_static_threshold = i_qs_;
   s.quasi_static = s.has_data && s.mean_moment_index_to_peak < i_qs_;
   return s;
+}
+
+std::string phi_peak_basis(const ShearSummary& s) {
+  if (!s.has_data) return "";
+  char rate[120];
+  if (s.strain_rate_min == s.strain_rate_max)
+    std::snprintf(rate, sizeof rate, "at eps' %.3g", s.strain_rate_min);
+  else
+    std::snprintf(rate, sizeof rate, "at eps' %.3g to %.3g", s.strain_rate_min, s.strain_rate_max);
+  char buf[480];
+  if (s.quasi_static)
+    std::snprintf(buf, sizeof buf,
+                  "measured directly in a quasi-static shear (rate strategy %s, %s): mean I_mom to the peak %.3g < "
+                  "I_QS %.3g",
+                  s.rate_strategy.c_str(), rate, s.mean_moment_index_to_peak, s.quasi_static_threshold);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "measured in a shear that is NOT quasi-static (rate strategy %s, %s): mean I_mom to the peak %.3g "
+                  ">= I_QS %.3g, so phi_peak is above the quasi-static value; use rate.strategy adaptive or "
+                  "`triax_qs predict`",
+                  s.rate_strategy.c_str(), rate, s.mean_moment_index_to_peak, s.quasi_static_threshold);
+  return buf;
 }
 
 }  // namespace vt::protocol

@@ -63,7 +63,9 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   sim_.reset_strain_reference();
   const double t0 = sim_.time_scale().t0;
   const std::int64_t n = options_.control_interval;
-  StageJudge judge(st, options_, t0);
+  RunOptions options = options_;
+  options.young_modulus = sim_.settings().material.young;
+  StageJudge judge(st, options, t0, specimen_at_start(sim_));
   const StageBoundary& boundary = judge.boundary();
   std::unique_ptr<control::ServoStrategy> servo;
   double rates[3];
@@ -81,6 +83,12 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
       if (boundary.servo[i]) rates[i] = 0.0;
   }
   obs.on_stage_start(st, sim_);
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "[%s] rate strategy %s: first eps' = %.3g (eq. 84 at %.2g I_QS)", st.name.c_str(),
+                  judge.strategy_name(), judge.first_axial_rate() * t0, st.rate_spec.adaptive.target);
+    obs.on_progress(buf);
+  }
   const auto t_start = Clock::now();
   auto t_progress = t_start;
   std::int64_t k = 0, k_progress = 0;
@@ -98,7 +106,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     const double dt = sim_.dt();  // per tick: the contacts basis refreshes it (dem/contact_time_step.h)
     sim_.set_strain_rates(velocity_gradient(rates, dt));
     const bool sample = judge.is_sample_tick(k + n);
-    const bool measure_end = sample || servo || n > 1;
+    const bool measure_end = sample || servo || n > 1 || judge.needs_moment_index();
     bool stepped = true;
     for (std::int64_t s = 0; s < n && stepped; ++s) stepped = sim_.step(measure_end && s == n - 1);
     if (!stepped) {
@@ -112,7 +120,8 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     if (servo) {
       control::ServoInput in;
       in.time = sim_.time();
-      in.dt = dt * static_cast<double>(n);
+      // the time the next tick's rate will act (the contacts basis may have refreshed dt; as dem_node's control_period)
+      in.dt = sim_.dt() * static_cast<double>(n);
       in.stress = {stress(0, 0), stress(1, 1), stress(2, 2)};
       in.stiffness = dem::axis_stiffness(sim_);
       const control::ServoOutput o = servo->update(in);
@@ -125,10 +134,14 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     ts.p = stress.trace() / 3.0;
     ts.q = stress(2, 2) - std::min(stress(0, 0), stress(1, 1));
     for (int i = 0; i < 3; ++i) ts.stress[i] = stress(i, i);
-    if (sample) {  // UFR and contacts of the tick's measured last step
-      last = sim_.measures();
-      ts.ufr = last.ufr;
-      ts.contacts = last.contacts;
+    if (sample || judge.needs_moment_index()) {  // of the tick's measured last step
+      const dem::Measures now = sim_.measures();
+      ts.moment_index = now.moment_index;
+      if (sample) {
+        last = now;
+        ts.ufr = last.ufr;
+        ts.contacts = last.contacts;
+      }
     }
     const TickDecision d = judge.decide(ts, abort_ ? "aborted" : nullptr);
     if (sample) record(d, true);

@@ -59,7 +59,7 @@ std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>&
     const auto i = static_cast<std::size_t>(a);
     if (owner_[i] == owner) continue;  // re-claim: keep its command
     owner_[i] = owner;
-    command_rate_[i] = 0.0;
+    command_rate_[i] = open_rate_[i];  // the axis keeps its motion until the owner's first command
     // A new axis joins at this tick: the owner answers from the next tick on.
     it->second.claimed_at = tick;
   }

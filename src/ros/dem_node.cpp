@@ -1,6 +1,8 @@
 // DemNode: the DEM specimen as a ROS node. See dem_node.h.
 #include "virtual_triaxial/ros/dem_node.h"
 
+#include "virtual_triaxial/protocol/stage_judge.h"
+
 #include <omp.h>
 
 #include <cmath>
@@ -311,6 +313,9 @@ bool DemNode::on_get_info(virtual_triaxial::GetInfo::Request&, virtual_triaxial:
   rs.lockstep_timeouts = diag_.timeouts();
   rs.rejected_commands = diag_.rejected();
   rs.source = source_;
+  const protocol::SpecimenAtStart specimen = protocol::specimen_at_start(*sim_);
+  rs.void_ratio = specimen.void_ratio;
+  rs.dispersity_index = specimen.dispersity_index;
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include <std_srvs/Trigger.h>
 
 #include "virtual_triaxial/ClaimAxes.h"
+#include "virtual_triaxial/ConfigureRate.h"
 #include "virtual_triaxial/GetInfo.h"
 #include "virtual_triaxial/LoadSample.h"
 #include "virtual_triaxial/ReleaseAxes.h"
@@ -33,6 +34,7 @@ protocol::TickSample tick_sample(const TickMessages& m, int axial_axis, std::int
   ts.p = m.stress->p;
   ts.q = m.stress->q;
   for (int i = 0; i < 3; ++i) ts.stress[i] = m.stress->stress[static_cast<std::size_t>(4 * i)];
+  ts.moment_index = m.moment->moment_index;  // every tick (the adaptive rate strategy reads it)
   if (sample) {
     ts.ufr = m.moment->ufr;
     ts.contacts = static_cast<std::int64_t>(m.fabric->contacts);
@@ -147,12 +149,41 @@ void ProtocolSession::tune_servo() {
                        " (keeps " + std::to_string(d.value) + "; see its log)");
 }
 
-void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b) {
+protocol::StageJudge ProtocolSession::make_judge(const protocol::StageSpec& st) {
+  protocol::RunOptions options = scene_->run_options();
+  options.control_interval = publish_every_;  // = control.interval, checked in run()
+  virtual_triaxial::GetInfo info;
+  call("get_info", info);
+  options.young_modulus = info.response.young_modulus;
+  protocol::SpecimenAtStart specimen;
+  specimen.void_ratio = info.response.void_ratio;
+  specimen.dispersity_index = info.response.dispersity_index;
+  try {
+    return protocol::StageJudge(st, options, ctx_.t0, specimen);
+  } catch (const std::invalid_argument& e) {
+    throw RigError(e.what());
+  }
+}
+
+void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge) {
+  const protocol::StageBoundary& b = judge.boundary();
   trigger("reset_strain");
-  if (!b.any_servo()) {
-    trigger(servo_ + "/disable");
-  } else {
-    trigger(servo_ + "/disable");
+  trigger(servo_ + "/disable");
+  if (rate_controller_on_) {
+    trigger(rate_controller_ + "/disable");
+    rate_controller_on_ = false;
+  }
+  // Open-loop rates first: a controller that claims an axis keeps its
+  // open-loop rate until its first command (axis_arbiter.h), so the servo
+  // axes start at 0 and the axial axis at the judge's first rate, as in triax_run.
+  for (int a = 0; a < 3; ++a) {
+    virtual_triaxial::SetStrainRate r;
+    r.request.axis = static_cast<std::uint8_t>(a);
+    r.request.strain_rate = b.servo[a] ? 0.0 : (a == st.axial_axis ? judge.first_axial_rate() : b.open_rate[a]);
+    r.request.dimensionless = false;
+    call("set_strain_rate", r);
+  }
+  if (b.any_servo()) {
     tune_servo();
     virtual_triaxial::SetServoAxes axes;
     for (int a : b.servo_axes()) axes.request.axes.push_back(static_cast<std::uint8_t>(a));
@@ -163,14 +194,36 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     call(servo_ + "/set_confining_pressure", cp);
     trigger(servo_ + "/enable");
   }
-  for (int a = 0; a < 3; ++a) {
-    if (b.servo[a]) continue;
-    virtual_triaxial::SetStrainRate r;
-    r.request.axis = static_cast<std::uint8_t>(a);
-    r.request.strain_rate = b.open_rate[a];
-    r.request.dimensionless = false;
-    call("set_strain_rate", r);
-  }
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) start_rate_controller(st, judge);
+}
+
+void ProtocolSession::start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge) {
+  const control::AdaptiveRateParameters& a = st.rate_spec.adaptive;
+  virtual_triaxial::ConfigureRate c;
+  c.request.strategy = control::to_string(st.rate_spec.strategy);
+  c.request.axis = static_cast<std::uint8_t>(st.axial_axis);
+  c.request.rate0 = judge.first_axial_rate();
+  c.request.t0 = ctx_.t0;
+  c.request.quasi_static_threshold = scene_->control.quasi_static_threshold;
+  c.request.target = a.target;
+  c.request.min_dimensionless = a.min_dimensionless;
+  c.request.max_dimensionless = a.max_dimensionless;
+  c.request.max_change = a.max_change;
+  c.request.smoothing_ticks = a.smoothing_ticks;
+  c.request.response_ticks = a.response_ticks;
+  c.request.sensitivity = a.sensitivity;
+  const std::string name = rate_controller_ + "/configure";
+  if (!::ros::service::exists(nh_.resolveName(name), false) &&
+      !nh_.serviceClient<virtual_triaxial::ConfigureRate>(name).waitForExistence(::ros::Duration(rig_timeout_)))
+    throw RigError("stage '" + st.name + "' rate.strategy " + c.request.strategy + ": no rate controller node '" +
+                   rate_controller_ + "' on the rig (start protocol_rig.launch with rate_node:=rate_controller_node "
+                   "or py_rate_controller.py)");
+  call(name, c);
+  if (!c.response.success) throw RigError(rate_controller_ + "/configure refused: " + c.response.message);
+  std_srvs::Trigger t;
+  call(rate_controller_ + "/enable", t);
+  if (!t.response.success) throw RigError(rate_controller_ + "/enable failed: " + t.response.message);
+  rate_controller_on_ = true;
 }
 
 protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std::string& protocol_path,
@@ -218,10 +271,15 @@ void ProtocolSession::finish_rig() {
     virtual_triaxial::GetInfo info;
     call("get_info", info);
     ctx_.lockstep_timeouts = static_cast<std::int64_t>(info.response.lockstep_timeouts - timeouts_at_start_);
+    ctx_.dt = info.response.dt;  // the step in force at the end (the contacts basis changes it), as triax_run's
     if (ctx_.lockstep_timeouts > 0)
       ROS_WARN("test_protocol_node: %lld lockstep timeouts during the test (a participant answered late; see "
                "/diagnostics)", static_cast<long long>(ctx_.lockstep_timeouts));
     if (!servo_dead_) trigger(servo_ + "/disable");
+    if (rate_controller_on_) {
+      rate_controller_on_ = false;
+      trigger(rate_controller_ + "/disable");
+    }
     for (int a = 0; a < 3; ++a) {
       virtual_triaxial::SetStrainRate r;
       r.request.axis = static_cast<std::uint8_t>(a);
@@ -239,10 +297,9 @@ void ProtocolSession::finish_rig() {
 bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count,
                                 io::ResultsRecorder& recorder, SessionLinks& links, protocol::RunReport& report) {
   const io::SceneConfig& scene = *scene_;
-  protocol::RunOptions options = scene.run_options();
-  options.control_interval = publish_every_;  // = control.interval, checked in run()
-  protocol::StageJudge judge(st, options, ctx_.t0);
-  configure_stage(st, judge.boundary());
+  protocol::StageJudge judge = make_judge(st);
+  configure_stage(st, judge);
+  const bool external_rate = rate_controller_on_;  // the rate controller commands the axial axis
   const std::uint64_t start = current_tick();
   tick_ = start;
   const std::int64_t n = publish_every_;
@@ -260,9 +317,11 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   // One tick judged by the stage judge (see TickJudge); it runs in the
   // node's tick thread and owns the judge's decide() side while the stage runs.
   const std::uint64_t stage_start = start;
-  auto decide = [&, stage_start, n](std::uint64_t t, const TickMessages& m) {
+  auto decide = [&, stage_start, n, external_rate](std::uint64_t t, const TickMessages& m) {
     const std::int64_t steps = static_cast<std::int64_t>(t - stage_start) * n;
-    return judge.decide(tick_sample(m, st.axial_axis, steps, judge.is_sample_tick(steps)), links.stop_request());
+    protocol::TickSample ts = tick_sample(m, st.axial_axis, steps, judge.is_sample_tick(steps));
+    if (external_rate) ts.applied_axial_rate = m.strain->strain_rate[static_cast<std::size_t>(st.axial_axis)];
+    return judge.decide(ts, links.stop_request());
   };
   links.arm(decide, start);
   struct Disarm {  // the judge refers to this frame's locals

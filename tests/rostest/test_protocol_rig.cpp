@@ -304,6 +304,38 @@ void expect_stamps_rising(const TestRun& r) {
   }
 }
 
+/// Runs `protocol` headless (triax_run) and expects the rig's summary of run
+/// `r` to equal its, number for number (the same decisions, tick for tick).
+void expect_same_as_triax_run(const TestRun& r, const std::string& protocol, const std::string& dir) {
+  const fs::path triax_run = exe_dir() / "triax_run";
+  ASSERT_TRUE(fs::exists(triax_run)) << triax_run << " not built (make all)";
+  const fs::path out = fs::path(g_tmp) / dir;
+  fs::create_directories(out);
+  const std::string cmd = triax_run.string() + " " + g_protocols + "/" + protocol + " --quiet --out " +
+                          (out / "results.h5").string() + " >" + (out / "stdout.txt").string() + " 2>" +
+                          (out / "stderr.txt").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << slurp(out / "stderr.txt");
+  std::string stdout_text = slurp(out / "stdout.txt"), line;
+  std::istringstream lines(stdout_text);
+  for (std::string l; std::getline(lines, l);)
+    if (!l.empty()) line = l;
+  YAML::Node h, rj;
+  ASSERT_NO_THROW(h = YAML::Load(line)) << line;
+  ASSERT_NO_THROW(rj = YAML::Load(slurp(r.result.summary_file)));
+  EXPECT_EQ(h["verdict"].as<std::string>(), "completed");
+  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "mean_moment_index_to_peak", "max_moment_index_to_peak",
+                          "phi_end_deg", "q_peak_pa", "rate_strategy", "strain_rate_dimensionless_min",
+                          "strain_rate_dimensionless_max", "quasi_static"})
+    EXPECT_EQ(rj[key].Scalar(), h[key].Scalar()) << key << ": rig vs triax_run";
+  const double deg = 180.0 / M_PI;
+  EXPECT_EQ(fmt9(r.result.e0), h["e0"].Scalar());
+  EXPECT_EQ(fmt9(r.result.phi_peak * deg), h["phi_peak_deg"].Scalar());
+  EXPECT_EQ(fmt9(r.result.eps_peak), h["eps_peak"].Scalar());
+  EXPECT_EQ(fmt9(r.result.mean_moment_index), h["mean_moment_index_to_peak"].Scalar());
+  EXPECT_EQ(h["steps"].as<std::int64_t>(), r.result.steps);
+  EXPECT_EQ(h["ticks"].as<std::uint64_t>(), r.result.ticks);
+}
+
 }  // namespace
 
 TEST(ProtocolRig, DrainedMiniTestCompletesHoldsTheLateralStressAndMatchesTriaxRun) {
@@ -355,34 +387,7 @@ TEST(ProtocolRig, DrainedMiniTestCompletesHoldsTheLateralStressAndMatchesTriaxRu
   EXPECT_EQ(i1.axis_owners[0], "");
   EXPECT_EQ(i1.axis_owners[2], "");
 
-  // the same protocol headless
-  const fs::path triax_run = exe_dir() / "triax_run";
-  ASSERT_TRUE(fs::exists(triax_run)) << triax_run << " not built (make all)";
-  const fs::path out = fs::path(g_tmp) / "headless";
-  fs::create_directories(out);
-  const std::string cmd = triax_run.string() + " " + g_protocols + "/drained_mini.yaml --quiet --out " +
-                          (out / "results.h5").string() + " >" + (out / "stdout.txt").string() + " 2>" +
-                          (out / "stderr.txt").string();
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n" << slurp(out / "stderr.txt");
-  std::string stdout_text = slurp(out / "stdout.txt"), line;
-  std::istringstream lines(stdout_text);
-  for (std::string l; std::getline(lines, l);)
-    if (!l.empty()) line = l;
-  YAML::Node h, rj;
-  ASSERT_NO_THROW(h = YAML::Load(line)) << line;
-  ASSERT_NO_THROW(rj = YAML::Load(slurp(r.result.summary_file)));
-  EXPECT_EQ(h["verdict"].as<std::string>(), "completed");
-  for (const char* key : {"e0", "phi_peak_deg", "eps_peak", "mean_moment_index_to_peak", "max_moment_index_to_peak",
-                          "phi_end_deg", "q_peak_pa", "rate_strategy", "strain_rate_dimensionless_min",
-                          "strain_rate_dimensionless_max", "quasi_static"})
-    EXPECT_EQ(rj[key].Scalar(), h[key].Scalar()) << key << ": rig vs triax_run";
-  const double deg = 180.0 / M_PI;
-  EXPECT_EQ(fmt9(r.result.e0), h["e0"].Scalar());
-  EXPECT_EQ(fmt9(r.result.phi_peak * deg), h["phi_peak_deg"].Scalar());
-  EXPECT_EQ(fmt9(r.result.eps_peak), h["eps_peak"].Scalar());
-  EXPECT_EQ(fmt9(r.result.mean_moment_index), h["mean_moment_index_to_peak"].Scalar());
-  EXPECT_EQ(h["steps"].as<std::int64_t>(), r.result.steps);
-  EXPECT_EQ(h["ticks"].as<std::uint64_t>(), r.result.ticks);
+  expect_same_as_triax_run(r, "drained_mini.yaml", "headless");
 }
 
 TEST(ProtocolRig, UndrainedMiniTestKeepsTheCellVolumeConstant) {
@@ -588,4 +593,39 @@ int main(int argc, char** argv) {
   spinner.stop();
   ros::shutdown();
   return rc;
+}
+
+// The adaptive rate strategy on the rig: the protocol node configures and
+// enables the rate controller (rate_controller_node; py_rate_controller.py in
+// protocol_rig_python.test), which commands the axial rate every tick from
+// I_mom. Run with two CPU hogs beside it, the rig must still take the
+// headless triax_run's decisions tick for tick: the same summary, including
+// the range of eps' the law used (which must span more than one rate).
+TEST(ProtocolRig, AdaptiveRateControllerTakesTriaxRunsDecisionsUnderLoad) {
+  Rig& rig = *g_rig;
+  ASSERT_TRUE(rig.ready()) << "no run_test action server / rig topics";
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> hogs;
+  for (int i = 0; i < 2; ++i)
+    hogs.emplace_back([&stop] {
+      volatile std::uint64_t x = 0;
+      while (!stop.load(std::memory_order_relaxed)) x = x + 1;
+    });
+  const TestRun r = rig.run(file_goal("adaptive_mini.yaml", "adaptive"));
+  stop = true;
+  for (std::thread& t : hogs) t.join();
+  ASSERT_TRUE(r.finished) << "no result within " << kRunTimeout << " s";
+  std::printf("[protocol_rig] adaptive mini under load: %s in %.1f s wall, %llu ticks\n", r.result.verdict.c_str(),
+              r.wall, static_cast<unsigned long long>(r.result.ticks));
+  ASSERT_EQ(r.result.verdict, "completed") << r.result.message;
+  YAML::Node rj;
+  ASSERT_NO_THROW(rj = YAML::Load(slurp(r.result.summary_file)));
+  EXPECT_EQ(rj["rate_strategy"].as<std::string>(), "adaptive");
+  const double lo = rj["strain_rate_dimensionless_min"].as<double>(), hi = rj["strain_rate_dimensionless_max"].as<double>();
+  std::printf("[protocol_rig] adaptive eps' range %.4g .. %.4g\n", lo, hi);
+  EXPECT_GT(hi, 1.2 * lo) << "the adaptive law never changed the rate";
+  const vtm::GetInfo::Response i1 = rig.info();
+  EXPECT_EQ(i1.lockstep_timeouts, 0u);
+  EXPECT_EQ(i1.axis_owners[2], "") << "the rate controller kept the axial axis after the test";
+  expect_same_as_triax_run(r, "adaptive_mini.yaml", "headless_adaptive");
 }

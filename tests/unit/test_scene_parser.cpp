@@ -395,3 +395,57 @@ TEST(SceneParser, EveryShippedProtocolLoads) {
   }
   EXPECT_GE(n, 5) << "config/protocols/ should hold the shipped protocols";
 }
+
+// ---- rate strategies (stages[i].rate, control/rate_strategy.h) ----------------------
+
+TEST(SceneParser, RateStrategiesParseWithTheirDefaults) {
+  const std::string drained = "stages:\n  - {type: drained_shear, confining_pressure: 1.0e5, stop: {axial_strain: 0.1}, ";
+  const vt::io::SceneConfig a = vt::io::parse_scene(
+      scene("", kDist, drained + "rate: {strategy: adaptive, target: 0.5, max_change: 0.05, min: 1.0e-8}}\n"));
+  const vt::control::RateSpec& ra = a.stages[0].rate_spec;
+  EXPECT_EQ(ra.strategy, vt::control::RateStrategyKind::Adaptive);
+  EXPECT_EQ(ra.adaptive.target, 0.5);
+  EXPECT_EQ(ra.adaptive.max_change, 0.05);
+  EXPECT_EQ(ra.adaptive.min_dimensionless, 1e-8);
+  EXPECT_EQ(ra.adaptive.max_dimensionless, vt::control::AdaptiveRateParameters{}.max_dimensionless);
+  EXPECT_FALSE(a.stages[0].strain_rate_dimensionless);
+  // predicted: target 1 by default (eq. 85 at I_QS itself)
+  const vt::io::SceneConfig p = vt::io::parse_scene(scene("", kDist, drained + "rate: {strategy: predicted}}\n"));
+  EXPECT_EQ(p.stages[0].rate_spec.strategy, vt::control::RateStrategyKind::Predicted);
+  EXPECT_EQ(p.stages[0].rate_spec.adaptive.target, 1.0);
+  // no rate key: fixed at the stage's rate (today's protocols unchanged)
+  const vt::io::SceneConfig f =
+      vt::io::parse_scene(scene("", kDist, drained + "strain_rate_dimensionless: 1.0e-5}\n"));
+  EXPECT_EQ(f.stages[0].rate_spec.strategy, vt::control::RateStrategyKind::Fixed);
+}
+
+TEST(SceneParser, RateStrategyErrorsNameTheField) {
+  const std::string drained = "stages:\n  - {type: drained_shear, confining_pressure: 1.0e5, stop: {axial_strain: 0.1}, ";
+  const std::vector<ErrorCase> cases = {
+      {"unknown strategy", scene("", kDist, drained + "rate: {strategy: fast}}\n"), "stages[0].rate.strategy"},
+      {"adaptive with a fixed rate too",
+       scene("", kDist, drained + "strain_rate_dimensionless: 1.0e-5, rate: {strategy: adaptive}}\n"),
+       "stages[0].strain_rate_dimensionless"},
+      {"target above 1", scene("", kDist, drained + "rate: {strategy: adaptive, target: 1.5}}\n"),
+       "stages[0].rate.target"},
+      {"max below min", scene("", kDist, drained + "rate: {strategy: adaptive, min: 1.0e-6, max: 1.0e-7}}\n"),
+       "stages[0].rate.max"},
+      {"zero max_change", scene("", kDist, drained + "rate: {strategy: adaptive, max_change: 0}}\n"),
+       "stages[0].rate.max_change"},
+      {"adaptive key on predicted", scene("", kDist, drained + "rate: {strategy: predicted, min: 1.0e-8}}\n"),
+       "stages[0].rate.min"},
+      {"target on fixed",
+       scene("", kDist, drained + "strain_rate_dimensionless: 1.0e-5, rate: {strategy: fixed, target: 0.5}}\n"),
+       "stages[0].rate.target"},
+      {"adaptive on isotropic compression",
+       scene("", kDist, "stages:\n  - {type: isotropic_compression, stop: {steps: 1}, rate: {strategy: adaptive}}\n"),
+       "stages[0].rate.strategy"},
+      {"unknown rate key", scene("", kDist, drained + "rate: {strategy: adaptive, gain: 2}}\n"),
+       "stages[0].rate.gain"},
+  };
+  for (const ErrorCase& c : cases) {
+    const SceneError e = expect_scene_error(c.yaml);
+    EXPECT_EQ(e.field(), c.field) << c.name << ": " << e.what();
+  }
+}
+

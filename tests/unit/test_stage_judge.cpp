@@ -12,12 +12,19 @@
 //     maximum, the strategy and the eps' range (= eps' of the stage for the
 //     fixed strategy); at a fixed rate the mean is the plain mean bit for bit
 //     (every weight exactly 1), with unequal weights the weighted closed form;
-//   - the quasi-static verdict follows the mean against I_QS.
+//   - the quasi-static verdict follows the mean against I_QS;
+//   - the rate strategies: `predicted` starts (and stays) at eq. 84's
+//     eps'_QS(target I_QS) / T0 for the specimen, against the closed form;
+//     `adaptive` starts there too and then commands, tick for tick, what
+//     control::AdaptiveRate commands fed the same I_mom; the summary names
+//     the strategy and the eps' range that ran; a strategy without the
+//     specimen it needs is refused naming `rate`.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "virtual_triaxial/protocol/shear_summary.h"
+#include "virtual_triaxial/control/adaptive_rate.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 
 using namespace vt;
@@ -235,3 +242,96 @@ TEST(StageJudge, BadOptionsNameTheField) {
     EXPECT_NE(std::string(e.what()).find("t0"), std::string::npos) << e.what();
   }
 }
+
+namespace {
+
+constexpr double kYoung = 7e10, kVoid = 0.62, kDelta = 1.3;  // specimen for eq. 84
+
+protocol::StageSpec strategy_shear(control::RateStrategyKind kind, double target) {
+  protocol::StageSpec s = shear(0.0, 0.1);
+  s.strain_rate_dimensionless.reset();
+  s.rate_spec.strategy = kind;
+  s.rate_spec.adaptive.target = target;
+  return s;
+}
+
+protocol::RunOptions strategy_options() {
+  protocol::RunOptions o = options(10, 20);
+  o.young_modulus = kYoung;
+  o.qs_damping = quasi_static::QsDamping::OD;
+  return o;
+}
+
+/// eq. 84 written out: eps'_QS = 0.27 e0^-4 (sigma_c/E)^0.67 Delta^-2.5 I (OD).
+double eq84(double threshold) {
+  return 0.27 * std::pow(kVoid, -4.0) * std::pow(1e5 / kYoung, 0.67) * std::pow(kDelta, -2.5) * threshold;
+}
+
+}  // namespace
+
+TEST(StageJudge, PredictedRateIsEq84ForTheSpecimenAndIsHeld) {
+  protocol::SpecimenAtStart sp{kVoid, kDelta};
+  protocol::StageJudge j(strategy_shear(control::RateStrategyKind::Predicted, 1.0), strategy_options(), kT0, sp);
+  const double expected = eq84(1e-3) / kT0;
+  EXPECT_NEAR(j.first_axial_rate(), expected, 1e-12 * expected);
+  EXPECT_STREQ(j.strategy_name(), "predicted");
+  EXPECT_FALSE(j.needs_moment_index());
+  for (std::int64_t k = 10; k <= 50; k += 10) {
+    const TickDecision d = j.decide(tick(k, 1e-4 * static_cast<double>(k)), nullptr);
+    EXPECT_EQ(d.axial_rate, j.first_axial_rate());
+  }
+  // target 0.5: eq. 84 is linear in I_QS
+  protocol::StageJudge h(strategy_shear(control::RateStrategyKind::Predicted, 0.5), strategy_options(), kT0, sp);
+  EXPECT_NEAR(h.first_axial_rate(), 0.5 * expected, 1e-12 * expected);
+}
+
+TEST(StageJudge, AdaptiveRateCommandsWhatTheLawCommandsAndTheSummaryShowsTheRange) {
+  protocol::SpecimenAtStart sp{kVoid, kDelta};
+  protocol::StageSpec st = strategy_shear(control::RateStrategyKind::Adaptive, 0.7);
+  st.rate_spec.adaptive.smoothing_ticks = 2;
+  st.rate_spec.adaptive.response_ticks = 3;
+  st.rate_spec.adaptive.max_change = 0.1;
+  protocol::StageJudge j(st, strategy_options(), kT0, sp);
+  EXPECT_TRUE(j.needs_moment_index());
+  const double rate0 = eq84(0.7e-3) / kT0;
+  EXPECT_NEAR(j.first_axial_rate(), rate0, 1e-12 * rate0);
+  control::AdaptiveRateParameters p = st.rate_spec.adaptive;
+  p.t0 = kT0;
+  control::AdaptiveRate law(p);
+  law.start(j.first_axial_rate());
+  // the index first sits far above the target (rate falls), then far below (rate rises)
+  double lo = j.first_axial_rate(), hi = lo, eps = 0.0;
+  protocol::TickSample t0s = tick(10, 0.0);
+  EXPECT_THROW(protocol::StageJudge(st, strategy_options(), kT0, sp).decide(t0s, nullptr), std::logic_error)
+      << "adaptive without the moment index";
+  for (std::int64_t k = 10; k <= 400; k += 10) {
+    protocol::TickSample t = tick(k, eps);
+    t.moment_index = k <= 200 ? 5e-3 : 1e-4;
+    const double ran = law.rate();
+    const TickDecision d = j.decide(t, nullptr);
+    const double want = law.update({*t.moment_index, 1e-3});
+    ASSERT_EQ(d.axial_rate, want) << "tick " << k;  // bit for bit
+    lo = std::min(lo, ran);
+    hi = std::max(hi, ran);
+    eps += ran * kT0 * 1e-3;
+    if (d.sample_tick) j.record(sample(eps, 0.3, *t.moment_index), d);
+  }
+  EXPECT_LT(lo, 0.5 * j.first_axial_rate());
+  protocol::RunReport r;
+  j.finish(400, r);
+  EXPECT_EQ(r.shear.rate_strategy, "adaptive");
+  EXPECT_NEAR(r.shear.strain_rate_min, lo * kT0, 1e-15 * hi * kT0);
+  EXPECT_NEAR(r.shear.strain_rate_max, hi * kT0, 1e-15 * hi * kT0);
+}
+
+TEST(StageJudge, AStrategyWithoutItsSpecimenIsRefusedNamingRate) {
+  for (const auto kind : {control::RateStrategyKind::Predicted, control::RateStrategyKind::Adaptive}) {
+    try {
+      protocol::StageJudge j(strategy_shear(kind, 1.0), strategy_options(), kT0);
+      FAIL() << "accepted " << control::to_string(kind) << " without a specimen";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("rate", 0), 0u) << e.what();
+    }
+  }
+}
+

@@ -7,16 +7,21 @@
 // for the next control tick from the state at the end of the current one.
 // Laws:
 //   fixed    (FixedRate)     the stage's rate on every tick (today's behaviour);
+//   predicted (FixedRate named "predicted") the eq. 85 rate of the sample at
+//            the stage start, eps'_QS(target I_QS) / T0 (eq. 84 is linear in
+//            I_QS), held; the stage judge (protocol/stage_judge.h) computes
+//            that rate, one home for rig and headless;
 //   adaptive (AdaptiveRate, adaptive_rate.h) holds a smoothed moment index
-//            at a set fraction of the quasi-static threshold I_QS.
-// (The `predicted` strategy of issue 16 is `fixed` at the eq. 85 rate of the
-// sample; it needs the quasi-static library and is not here yet.)
+//            at a set fraction of the quasi-static threshold I_QS, starting
+//            from the same prediction.
 // Bad values throw std::invalid_argument naming the field; update() before
 // start() throws std::logic_error. ROS-free.
 #pragma once
 
 #include <memory>
 #include <string>
+
+#include "virtual_triaxial/control/adaptive_rate_parameters.h"
 
 namespace vt::control {
 
@@ -38,17 +43,38 @@ class RateStrategy {
   virtual double rate() const = 0;
 };
 
-/// The stage's own rate, unchanged.
+/// The stage's own rate, unchanged (also `predicted`: the eq. 85 rate, held).
 class FixedRate : public RateStrategy {
  public:
-  const char* name() const override { return "fixed"; }
+  /// `name`: "fixed" or "predicted" (a string literal).
+  explicit FixedRate(const char* name = "fixed") : name_(name) {}
+  const char* name() const override { return name_; }
   void start(double rate0) override;
   double update(const RateInput&) override;
   double rate() const override { return rate_; }
 
  private:
+  const char* name_;
   double rate_ = 0;
   bool started_ = false;
 };
+
+enum class RateStrategyKind { Fixed, Predicted, Adaptive };
+
+/// Parses "fixed", "predicted", "adaptive" (exact, lower case); false if unknown.
+bool parse_rate_strategy(const std::string& name, RateStrategyKind& out);
+const char* to_string(RateStrategyKind kind);
+
+/// A shearing stage's `rate:` block (config/scenes/README.md). `adaptive.t0`
+/// is filled in by make_rate_strategy. For `predicted`, `adaptive.target` is
+/// the fraction of I_QS the eq. 84 rate is computed for (default 1: eq. 85).
+struct RateSpec {
+  RateStrategyKind strategy = RateStrategyKind::Fixed;
+  AdaptiveRateParameters adaptive;
+};
+
+/// The strategy of `spec` for a sample with characteristic time t0 [s].
+/// Throws std::invalid_argument naming the field when `spec` is bad.
+std::unique_ptr<RateStrategy> make_rate_strategy(const RateSpec& spec, double t0);
 
 }  // namespace vt::control

@@ -37,6 +37,8 @@
 // depend on the length unit or on an overall scale of the sizes.
 #pragma once
 
+#include "virtual_triaxial/quasi_static/dispersity_index.h"
+
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -89,10 +91,7 @@ PsdParticles psd_particles(const Psd& psd, std::int64_t count);
 /// non-positive/non-finite size or a negative/non-finite fraction.
 double dispersity_index(const Psd& psd);
 
-/// Dispersity index (eq. 80) of an explicit particle list given by nominal
-/// radii: the mass-weighted (mass ~ r^3) mean diameter over the smallest
-/// diameter. Throws std::invalid_argument for an empty list or a radius that
-/// is <= 0 or non-finite.
-double dispersity_index(const std::vector<double>& nominal_radii);
+/// Dispersity index (eq. 80) of an explicit particle list (quasi_static/dispersity_index.h).
+using quasi_static::dispersity_index;
 
 }  // namespace vt::io

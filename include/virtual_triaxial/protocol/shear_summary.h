@@ -41,6 +41,11 @@ struct ShearSummary {
   std::int64_t samples = 0;
 };
 
+/// How phi_peak was obtained and whether it is a quasi-static answer, in
+/// words for the summary (`phi_peak_basis`): the strategy, the eps' range, and
+/// the mean I_mom to the peak against I_QS (chapter 6's criterion). "" without data.
+std::string phi_peak_basis(const ShearSummary& s);
+
 class ShearSummaryBuilder {
  public:
   explicit ShearSummaryBuilder(int axial_axis = 2, double i_qs = 1e-3) : axis_(axial_axis), i_qs_(i_qs) {}

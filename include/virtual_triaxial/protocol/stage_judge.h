@@ -7,8 +7,11 @@
 //     stage; else a met stop criterion (stage_monitor.h); else the step cap
 //     (the stage's `steps` criterion, or RunOptions::max_steps_per_stage when
 //     it has none) ends the run with the verdict `step_limit`;
-//   - the axial strain rate of the loading axis for the next tick (the rate
-//     strategy; today `fixed`: the stage's own rate);
+//   - the axial strain rate of the loading axis for the next tick: the
+//     stage's rate strategy (control/rate_strategy.h: fixed, predicted,
+//     adaptive) fed the tick's I_mom; the first rate of `predicted` and
+//     `adaptive` is eq. 84's eps'_QS at target x I_QS for the specimen at the
+//     stage start (SpecimenAtStart) divided by T0 (eq. 85);
 //   - the stage's outcome, the run's verdict and failure message, and the
 //     shear summary (shear_summary.h) with the strategy and the range of
 //     eps' = |eps_dot_a| T0 (eq. 31) it used.
@@ -20,9 +23,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
+#include "virtual_triaxial/control/rate_strategy.h"
 #include "virtual_triaxial/dem/measures.h"
+#include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/protocol/shear_summary.h"
 #include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
@@ -46,11 +52,25 @@ struct TickDecision {
   bool ends_stage() const { return kind != Kind::Continue; }
 };
 
+/// The specimen at the start of a stage, for the eq. 84 prediction of the
+/// `predicted` and `adaptive` rate strategies (0 = not known).
+struct SpecimenAtStart {
+  double void_ratio = 0.0;        ///< e0 [-]
+  double dispersity_index = 0.0;  ///< Delta (eq. 80) [-]
+};
+
+/// The specimen of `sim` now: void ratio from the cell and solid volumes,
+/// Delta from the particles' radii (quasi_static/dispersity_index.h). One home
+/// for triax_run and dem_node's get_info.
+SpecimenAtStart specimen_at_start(const dem::Simulation& sim);
+
 class StageJudge {
  public:
   /// `t0` the sample's characteristic time [s] (eq. 91-92). Throws
-  /// std::invalid_argument naming the option when `options` are bad.
-  StageJudge(const StageSpec& stage, const RunOptions& options, double t0);
+  /// std::invalid_argument naming the option when `options` are bad, and
+  /// naming `stages[].rate` when its strategy needs a specimen that is not
+  /// given or outside eq. 84's domain.
+  StageJudge(const StageSpec& stage, const RunOptions& options, double t0, const SpecimenAtStart& specimen = {});
 
   const StageSpec& stage() const { return stage_; }
   const StageBoundary& boundary() const { return boundary_; }
@@ -60,6 +80,10 @@ class StageJudge {
   bool is_sample_tick(std::int64_t stage_steps) const;
   /// Axial rate for the first tick [1/s] (later ones: TickDecision::axial_rate).
   double first_axial_rate() const { return rate0_; }
+  /// True when decide() needs TickSample::moment_index on every tick.
+  bool needs_moment_index() const { return strategy_ && strategy_->name() == std::string("adaptive"); }
+  /// The rate strategy's name ("fixed" for stages without an axial rate).
+  const char* strategy_name() const { return strategy_ ? strategy_->name() : "fixed"; }
 
   /// Judges one tick from the specimen's state at its end; `stop_request`
   /// is nullptr, "aborted" or "preempted". `s.stage_steps` must be the
@@ -87,6 +111,8 @@ class StageJudge {
   std::int64_t control_interval_, sample_interval_, cap_;
   double t0_;
   // decide()'s state: the rate strategy and the strain each sample covers.
+  std::unique_ptr<control::RateStrategy> strategy_;  ///< null without an open-loop axial rate
+  double quasi_static_threshold_ = 1e-3;
   double rate0_ = 0.0, rate_ = 0.0;
   double rate_min_ = 0.0, rate_max_ = 0.0;  ///< |axial rate| used [1/s]
   double interval_rate_sum_ = 0.0;          ///< sum of the rates of the ticks since the last sample

@@ -26,6 +26,12 @@ struct TickSample {
   double stress[3] = {0, 0, 0};  ///< sigma_xx, sigma_yy, sigma_zz [Pa]
   std::optional<double> ufr;     ///< unbalanced force ratio (eq. 66), on sample ticks
   std::int64_t contacts = 0;     ///< contacts (UFR criteria need > 0), on sample ticks
+  /// I_mom (eqs. 67-68) at the tick's end: on every tick of a stage whose
+  /// rate strategy reads it (StageJudge::needs_moment_index), else on sample ticks.
+  std::optional<double> moment_index;
+  /// The axial rate the tick ran at [1/s], when the runner does not apply the
+  /// judge's command itself (the rig: an external rate controller node).
+  std::optional<double> applied_axial_rate;
 };
 
 /// True when the tick that ends after `stage_steps` steps of the stage

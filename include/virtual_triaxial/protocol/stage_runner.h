@@ -37,6 +37,7 @@
 #include "virtual_triaxial/protocol/shear_summary.h"
 #include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_spec.h"
+#include "virtual_triaxial/quasi_static/qs_rate_prediction.h"
 
 namespace vt::protocol {
 
@@ -68,7 +69,10 @@ struct RunOptions {
   double progress_seconds = 2.0;           ///< wall seconds between progress lines
   std::int64_t max_steps_per_stage = 50'000'000;
   bool keep_last_good = true;              ///< snapshot the state at every good sample
-  double quasi_static_threshold = 1e-3;    ///< I_QS for the shear summary
+  double quasi_static_threshold = 1e-3;    ///< I_QS for the shear summary and the rate strategies
+  /// For the eq. 84 prediction of the `predicted` / `adaptive` rate strategies:
+  double young_modulus = 0.0;              ///< E of the specimen [Pa] (0 = not known)
+  quasi_static::QsDamping qs_damping = quasi_static::QsDamping::OD;  ///< ND for ND damping, else OD
 };
 
 struct RunReport {

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "virtual_triaxial/control/rate_strategy.h"
+
 namespace vt::protocol {
 
 enum class StageType {
@@ -60,8 +62,12 @@ struct StageSpec {
   std::optional<double> confining_pressure;
   int axial_axis = 2;  ///< 0 = x, 1 = y, 2 = z
   StopCriteria stop;
+  /// The axial rate strategy (drained_shear only; `fixed` elsewhere):
+  /// fixed = the rate above; predicted / adaptive start from eq. 84 (stage_judge.h).
+  control::RateSpec rate_spec;
 
-  /// Axial strain rate [1/s], compression positive (0 when none is given).
+  /// Axial strain rate [1/s], compression positive (0 when none is given;
+  /// the judge's first rate when `rate` is predicted or adaptive).
   double rate(double t0) const;
 };
 

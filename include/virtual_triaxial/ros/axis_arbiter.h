@@ -5,7 +5,9 @@
 //   closed loop - owned by one controller (claim_axes), which sends a
 //                 cell_command for it every control tick.
 // Two owners of one axis are refused; release_axes gives axes back (open
-// loop at rate 0). Rates are [1/s], COMPRESSION POSITIVE.
+// loop at rate 0). A claimed axis keeps its open-loop rate until the owner's
+// first command (a controller takes over a moving axis without a jump; the
+// rate controller's first tick runs at the rate the protocol node set). Rates are [1/s], COMPRESSION POSITIVE.
 //
 // Lockstep bookkeeping: the state of control tick k is answered by every
 // owner that held its claim when tick k was published (claimed at a tick

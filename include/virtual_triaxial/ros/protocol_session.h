@@ -71,6 +71,9 @@ class ProtocolSession {
   /// failures during the run end up in the report's verdict.
   protocol::RunReport run(const io::SceneConfig& scene, const std::string& protocol_path,
                           io::ResultsRecorder& recorder, SessionLinks& links);
+  /// Name of the rate controller node (rate_controller_node.h) that commands
+  /// the axial rate of stages with a `predicted` or `adaptive` rate strategy.
+  void set_rate_controller(std::string name) { rate_controller_ = std::move(name); }
   /// Folder for the per-stage checkpoints after_<i>_<stage>.h5 ("" = none).
   void set_checkpoint_dir(std::string dir) { checkpoint_dir_ = std::move(dir); }
   /// Specimen facts for the summary (valid after run()).
@@ -85,7 +88,11 @@ class ProtocolSession {
   std::uint64_t current_tick();
   /// control.servo -> the servo's dynamic_reconfigure (if it has one).
   void tune_servo();
-  void configure_stage(const protocol::StageSpec& st, const protocol::StageBoundary& b);
+  void configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge);
+  /// The rate controller's ~configure + ~enable for a stage whose strategy is not `fixed`.
+  void start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge);
+  /// The judge of stage `st`, with the specimen as dem_node has it now.
+  protocol::StageJudge make_judge(const protocol::StageSpec& st);
   /// false when the run must end (report updated)
   bool run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count, io::ResultsRecorder& recorder,
                  SessionLinks& links, protocol::RunReport& report);
@@ -100,6 +107,8 @@ class ProtocolSession {
 
   ::ros::NodeHandle nh_;
   std::string servo_, owner_;
+  std::string rate_controller_ = "rate_controller";
+  bool rate_controller_on_ = false;  ///< enabled by this session (disable at the next stage / the end)
   double rig_timeout_;
   const io::SceneConfig* scene_ = nullptr;
   io::RunContext ctx_;
