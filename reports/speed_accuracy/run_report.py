@@ -67,15 +67,18 @@ def groups(sample):
         ("damping_OD", {RATE: 1e-6}, {"damping.ratio": [0.0, 0.001, 0.003, 0.01, 0.03]}, 1),
         ("damping_ND", {RATE: 1e-6, "damping": {"model": "ND", "ratio": 0.005}},
          {"damping.ratio": [0.002, 0.005, 0.02]}, 1),
-        ("damping_viscous", {RATE: 1e-6, "damping": {"model": "viscous", "restitution": 0.5}},
-         {"damping.restitution": [0.9, 0.5, 0.1]}, 1),
+        # e = 0.5 and 0.1: the servo loses control and the cell blows open during the
+        # consolidation (reports/stability_map/: viscous stresses depend on the
+        # commanded rate); measured here once: e 1.2e6 after 186 000 steps. Not run.
+        ("damping_viscous", {RATE: 1e-6, "damping": {"model": "viscous", "restitution": 0.9}},
+         {"damping.restitution": [0.9]}, 1),
         ("damping_local", {RATE: 1e-6, "damping": {"model": "local", "coefficient": 0.2}},
          {"damping.coefficient": [0.05, 0.2, 0.7]}, 1),
         ("servo", {RATE: 1e-6}, {"control.servo.strategy": ["proportional", "pid"]}, 1),
         ("threads2", {RATE: 1e-6}, {"damping.ratio": [0.003]}, 2),
     ]
     if spheroid:  # 2.5x the cost per step: the rate and damping groups only
-        g = [x for x in g if x[0] in ("fixed_ct03", "fixed_contacts", "adaptive", "damping_OD", "damping_viscous")]
+        g = [x for x in g if x[0] in ("fixed_ct03", "fixed_contacts", "predicted", "adaptive", "damping_OD")]
     return g
 
 
@@ -201,6 +204,34 @@ def reference(points):
     return ref[0]
 
 
+def plateau_noise(sample, ref):
+    """Standard deviation of phi [deg] of the reference run over its plateau
+    (from the peak's strain to the end): the scale on which phi_peak, the
+    maximum of a noisy plateau, scatters between trajectories."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        return None
+    out = os.path.join(HERE, sample, "runs", "fixed_ct03", "runs")
+    for rid in os.listdir(out):
+        d = os.path.join(out, rid)
+        if not os.path.exists(os.path.join(d, "summary.json")):
+            continue
+        with open(os.path.join(d, "summary.json")) as f:
+            if json.load(f).get("phi_peak_deg") != ref["phi_peak_deg"]:
+                continue
+        if not os.path.exists(os.path.join(d, "results.h5")):
+            return None
+        with h5py.File(os.path.join(d, "results.h5"), "r") as f:
+            phi, strain = f["test/series/phi"][:], f["test/series/strain"][:]
+        start = max(i for i in range(len(strain)) if i == 0 or strain[i, 2] < strain[i - 1, 2] - 1e-12)
+        eps, phi = strain[start:, 2], phi[start:] * 180.0 / math.pi
+        window = phi[eps >= ref["eps_peak"] - 0.005]
+        return float(np.std(window)) if len(window) > 2 else None
+    return None
+
+
 def pareto(points):
     """The runs no other run beats in both cost and error (completed runs only)."""
     ok = sorted((p for p in points if p["verdict"] == "completed" and p["error_deg"] != ""),
@@ -282,12 +313,16 @@ def report(sample):
     for p in points:
         p["error_deg"] = abs(p["phi_peak_deg"] - ref["phi_peak_deg"]) if p["phi_peak_deg"] != "" else ""
     front = pareto(points)
+    noise = plateau_noise(sample, ref)
     write_csv(os.path.join(HERE, sample, "points.csv"), points, COLS)
     write_csv(os.path.join(HERE, sample, "pareto.csv"), front, COLS)
     plot(sample, points, front, ref)
     log(f"{sample}: {len(points)} runs, phi_ref {ref['phi_peak_deg']:.3f} deg, Pareto front: " +
         ", ".join(f"{p['group']} {p['setting']} ({p['cpu_s']:.0f} s, {p['error_deg']:.2f} deg)" for p in front))
+    log(f"{sample}: plateau noise of the reference's phi (std from 0.5 % before its peak to the end): "
+        f"{noise if noise is None else round(noise, 3)} deg")
     return {"sample": sample, "phi_ref_deg": ref["phi_peak_deg"], "reference_mean_i_mom": ref["mean_i_mom"],
+            "reference_plateau_std_deg": noise,
             "runs": len(points), "pareto": [{k: p[k] for k in COLS} for p in front]}
 
 
