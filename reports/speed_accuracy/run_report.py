@@ -258,7 +258,7 @@ COLORS = {"fixed_ct03": "black", "fixed_contacts": "tab:blue", "predicted": "tab
           "threads2": "tab:gray"}
 
 
-def plot(sample, points, front, ref):
+def plot(sample, points, front, ref, noise):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -269,15 +269,19 @@ def plot(sample, points, front, ref):
         for g in COLORS:
             pts = [p for p in ok if p["group"] == g]
             if pts:
-                ax.scatter([p["cpu_s"] for p in pts], [max(p[ykey], 1e-3) for p in pts], label=g, color=COLORS[g],
+                floor = 1e-3 if ykey == "error_deg" else 0.0  # an error of 0 (the reference) stays visible
+                ax.scatter([p["cpu_s"] for p in pts], [max(p[ykey], floor) for p in pts], label=g, color=COLORS[g],
                            s=28, zorder=3)
                 for p in pts:
-                    ax.annotate(p["setting"].split("=")[1], (p["cpu_s"], max(p[ykey], 1e-3)), fontsize=6,
+                    ax.annotate(p["setting"].split("=")[1], (p["cpu_s"], max(p[ykey], floor)), fontsize=6,
                                 xytext=(3, 2), textcoords="offset points")
         if ykey == "error_deg":
             ax.plot([p["cpu_s"] for p in front], [max(p["error_deg"], 1e-3) for p in front], "k--", lw=1,
                     label="Pareto front", zorder=2)
             ax.axhline(1.0, color="gray", lw=0.8, ls=":")
+            if noise:
+                ax.axhspan(0.0, noise, color="gray", alpha=0.12, zorder=1,
+                           label=f"reference's plateau noise (std {noise:.2f} deg)")
             ax.text(ax.get_xlim()[0] if False else min(p["cpu_s"] for p in ok), 1.05, "1 deg", fontsize=7,
                     color="gray")
         else:
@@ -314,9 +318,9 @@ def report(sample):
         p["error_deg"] = abs(p["phi_peak_deg"] - ref["phi_peak_deg"]) if p["phi_peak_deg"] != "" else ""
     front = pareto(points)
     noise = plateau_noise(sample, ref)
+    plot(sample, points, front, ref, noise)
     write_csv(os.path.join(HERE, sample, "points.csv"), points, COLS)
     write_csv(os.path.join(HERE, sample, "pareto.csv"), front, COLS)
-    plot(sample, points, front, ref)
     log(f"{sample}: {len(points)} runs, phi_ref {ref['phi_peak_deg']:.3f} deg, Pareto front: " +
         ", ".join(f"{p['group']} {p['setting']} ({p['cpu_s']:.0f} s, {p['error_deg']:.2f} deg)" for p in front))
     log(f"{sample}: plateau noise of the reference's phi (std from 0.5 % before its peak to the end): "
