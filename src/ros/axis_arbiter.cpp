@@ -44,9 +44,12 @@ std::string AxisArbiter::check_rate(double rate, const char* field) const {
 
 std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>& axes, std::uint64_t tick) {
   if (owner.empty()) return "owner: must not be empty";
-  for (int a : axes) {
+  for (std::size_t k = 0; k < axes.size(); ++k) {
+    const int a = axes[k];
     std::string bad = check_axis(a, "axes");
     if (!bad.empty()) return bad;
+    for (std::size_t j = 0; j < k; ++j)
+      if (axes[j] == a) return "axes[" + std::to_string(k) + "]: axis " + std::to_string(a) + " is repeated";
     const std::string& cur = owner_[static_cast<std::size_t>(a)];
     if (!cur.empty() && cur != owner)
       return "axes: axis " + std::to_string(a) + " is owned by '" + cur + "'";

@@ -1,6 +1,7 @@
 // DemNode: the DEM specimen as a ROS node. See dem_node.h.
 #include "virtual_triaxial/ros/dem_node.h"
 
+#include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 
 #include <omp.h>
@@ -64,7 +65,7 @@ void DemNode::read_parameters() {
   lockstep_timeout_ = optional_double(pnh_, "lockstep_timeout").value_or(2.0);
   if (!(std::isfinite(lockstep_timeout_) && lockstep_timeout_ > 0.0))
     throw std::invalid_argument("~lockstep_timeout: must be > 0 wall seconds");
-  max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(1e-3);
+  max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(io::RunLimits{}.max_dimensionless_rate);
   if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
     throw std::invalid_argument("~max_dimensionless_rate: must be > 0");
   const double clock_rate = optional_double(pnh_, "clock_rate").value_or(200.0);

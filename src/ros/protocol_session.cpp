@@ -18,6 +18,7 @@
 #include "virtual_triaxial/SetConfiningPressure.h"
 #include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/SetStrainRate.h"
+#include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/ros/measure_messages.h"
 
@@ -251,6 +252,7 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
   ctx_.t0 = info.response.t0;
   ctx_.dt = info.response.dt;
   ctx_.l0 = info.response.l0;
+  if (const std::string bad = io::check_rate_limits(scene, ctx_.t0); !bad.empty()) throw RigError(bad);
   virtual_triaxial::ClaimAxes claim;  // lockstep participant, no axes
   claim.request.owner = owner_;
   call("claim_axes", claim);

@@ -10,6 +10,7 @@
 #include "virtual_triaxial/CellCommand.h"
 #include "virtual_triaxial/ProtocolStatus.h"
 #include "virtual_triaxial/io/scene_error.h"
+#include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/io/scene_parser.h"
 #include "virtual_triaxial/io/text_file.h"
 #include "virtual_triaxial/ros/parameters.h"
@@ -258,6 +259,8 @@ void TestProtocolNode::execute(GoalHandle gh) {
   } catch (const io::SceneError& e) {
     return refuse("failed", std::string("protocol: ") + e.what());
   }
+  // The limits both runners share (io/run_limits.h); the rate limits once T0 is known.
+  if (const std::string bad = io::check_scene_limits(scene); !bad.empty()) return refuse("failed", "protocol: " + bad);
   {
     const std::lock_guard<std::mutex> lock(tick_mutex_);
     ticks_.clear();

@@ -1,8 +1,10 @@
 // triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--specimen DIR] [--quiet] [--check]
 //                  [--threads N|auto]
 //
-// --check only reads and validates the file (exit 0 valid, 2 bad input with
-// the one-line error naming the field); triax_sweep checks its inputs so.
+// --check only reads and validates the file, the run limits included
+// (io/run_limits.h; the specimen is built for T0, nothing runs): exit 0
+// valid, 2 bad input with the one-line error naming the field; triax_sweep
+// checks its inputs so.
 //
 // --threads auto (default): up to OMP_NUM_THREADS (else every core), chosen
 // at run time by measurement (dem/thread_governor.h), so that a busy machine
@@ -33,6 +35,7 @@
 #include <string>
 
 #include "virtual_triaxial/io/hdf5_atomic_file.h"
+#include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/io/scene_builder.h"
 #include "virtual_triaxial/io/scene_error.h"
 #include "virtual_triaxial/io/scene_parser.h"
@@ -108,17 +111,29 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "triax_run: error: %s\n", e.what());
     return 2;
   }
-  if (a.check) {
-    std::printf("triax_run: %s: valid\n", a.scene.c_str());
-    return 0;
+  // The limits both runners share (io/run_limits.h), before anything is built.
+  if (const std::string bad = vt::io::check_scene_limits(scene); !bad.empty()) {
+    std::fprintf(stderr, "triax_run: error: %s\n", bad.c_str());
+    return 2;
   }
-  if (scene.time_step_warning)
+  if (scene.time_step_warning && !a.check)
     std::fprintf(stderr, "triax_run: warning: time_step_ratio = %g >= 1: the time step exceeds the critical "
                          "estimate T0 (eq. 91-92); expect an unstable run\n", scene.time_step_ratio);
   try {
     vt::dem::Simulation sim = vt::io::build_simulation(scene);
+    // The rate limits need T0, known once the specimen is built (also for --check).
+    if (const std::string bad = vt::io::check_rate_limits(scene, sim.time_scale().t0); !bad.empty()) {
+      std::fprintf(stderr, "triax_run: error: %s\n", bad.c_str());
+      return 2;
+    }
+    if (a.check) {
+      std::printf("triax_run: %s: valid\n", a.scene.c_str());
+      return 0;
+    }
     if (a.threads > 0) omp_set_num_threads(a.threads);
     else sim.set_thread_governor(vt::dem::ThreadGovernor(omp_get_max_threads()));
+    // The last good state of a run that fails before its first sample.
+    const vt::dem::SimulationState initial = sim.state();
     vt::io::ResultsRecorder recorder(a.out, a.quiet);
     std::fprintf(stderr, "triax_run: %zu particles, L0 = %.4g m, T0 = %.4g s, dt = %.4g s (c_t = %g), damping %s xi = %g\n",
                  sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0, sim.dt(),
@@ -140,9 +155,9 @@ int main(int argc, char** argv) {
     if (const auto& g = sim.thread_governor(); g && g->max_threads() > 1)
       std::fprintf(stderr, "triax_run: threads chosen at run time: %lld steps on 1, %lld on %d\n",
                    static_cast<long long>(g->steps_one()), static_cast<long long>(g->steps_max()), g->max_threads());
-    if (report.verdict == vt::protocol::Verdict::Unstable && report.last_good) {
+    if (report.verdict == vt::protocol::Verdict::Unstable) {
       const std::string path = a.out + ".last_good.h5";
-      recorder.save_sample(path, *report.last_good, scene);
+      recorder.save_sample(path, report.last_good ? *report.last_good : initial, scene);
       std::fprintf(stderr, "triax_run: unstable: %s\ntriax_run: last good state saved to %s\n",
                    report.failure.c_str(), path.c_str());
     }

@@ -25,6 +25,7 @@
 //
 // The rig runs on simulation time (/use_sim_time), which stands still while
 // dem_node is paused: every wait here is in wall time.
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -565,6 +566,59 @@ TEST(ProtocolRig, BadGoalsAreRefusedNamingTheFieldAndTheNodeKeepsServing) {
   // same protocol as test 1: the same test
   EXPECT_EQ(r.result.ticks, g_drained.result.ticks);
   EXPECT_EQ(fmt9(r.result.phi_peak), fmt9(g_drained.result.phi_peak));
+}
+
+// The limits of io/run_limits.h: the same bad rates, c_t and particle count
+// that triax_run refuses (test_triax_run_cli) are refused by the rig before
+// it runs, with the same message.
+TEST(ProtocolRig, RunLimitsRefuseTheSameValuesAsTriaxRun) {
+  Rig& rig = *g_rig;
+  const std::uint64_t tick0 = rig.info().tick;
+  std::string base = slurp(g_protocols + "/drained_mini.yaml");
+  const std::string rel = "../sample_200_100kPa.h5";
+  ASSERT_NE(base.find(rel), std::string::npos);
+  base.replace(base.find(rel), rel.size(), g_sample);
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string y = base;
+    const std::size_t at = y.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) y.replace(at, from.size(), to);
+    return y;
+  };
+  const struct {
+    std::string name, yaml;
+  } cases[] = {
+      {"rate_1e-2", with("strain_rate_dimensionless: 1.0e-5", "strain_rate_dimensionless: 1.0e-2")},
+      {"rate_1e3", with("strain_rate_dimensionless: 1.0e-5", "strain_rate_dimensionless: 1.0e3")},
+      {"ct_50", with("time_step_ratio: 0.1", "time_step_ratio: 50.0")},
+      {"count_1e12", with("particles:\n  sample_file: " + g_sample,
+                          "particles:\n  distribution: {count: 1000000000000, radius_min: 1.0e-3, radius_max: 1.2e-3}")},
+  };
+  for (const auto& c : cases) {
+    const fs::path file = fs::path(g_tmp) / ("limits_" + c.name + ".yaml");
+    std::ofstream(file) << c.yaml;
+    const fs::path err = fs::path(g_tmp) / ("limits_" + c.name + ".err");
+    const std::string cmd = (exe_dir() / "triax_run").string() + " " + file.string() + " --quiet --out " + g_tmp +
+                            "/limits_" + c.name + ".h5 > /dev/null 2> " + err.string();
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 2) << c.name;
+    std::string headless = slurp(err);
+    const std::string prefix = "triax_run: error: ";
+    ASSERT_EQ(headless.rfind(prefix, 0), 0u) << c.name << ": " << headless;
+    headless = headless.substr(prefix.size());
+    while (!headless.empty() && headless.back() == '\n') headless.pop_back();
+    vtm::RunTestGoal g;
+    g.protocol_yaml = c.yaml;
+    g.output_dir = g_tmp + "/limits_" + c.name;
+    const TestRun r = rig.run(g, 60.0);
+    ASSERT_TRUE(r.finished) << c.name;
+    EXPECT_EQ(r.result.verdict, "failed") << c.name;
+    EXPECT_TRUE(contains(r.result.message, headless)) << c.name << ": rig '" << r.result.message << "' vs triax_run '"
+                                                      << headless << "'";
+  }
+  const vtm::GetInfo::Response i = rig.info();
+  EXPECT_TRUE(i.paused) << "a refused goal left the rig running";
+  EXPECT_LE(i.tick, tick0 + 1) << "a refused goal ran the rig";
 }
 
 int main(int argc, char** argv) {

@@ -42,6 +42,14 @@ TEST(AxisArbiter, ClaimsAreExclusiveAllOrNothingAndReleasable) {
   EXPECT_EQ(a.claim("other", {0}, 0), "") << "a released axis is free";
 }
 
+TEST(AxisArbiter, AClaimWithARepeatedAxisIsRefusedNamingTheEntry) {
+  AxisArbiter a = make();
+  EXPECT_EQ(a.claim("servo", {0, 1, 0}, 0), "axes[2]: axis 0 is repeated");
+  EXPECT_EQ(a.owner(0), "") << "a refused claim must not take any axis";
+  EXPECT_EQ(a.owner(1), "");
+  EXPECT_EQ(a.claim("servo", {0, 1}, 0), "");
+}
+
 TEST(AxisArbiter, AClaimWithoutAxesMakesALockstepParticipant) {
   AxisArbiter a = make();
   EXPECT_EQ(a.claim("protocol", {}, 3), "");
