@@ -7,6 +7,7 @@
 #   RIG_ARGS="nodelets:=false ..."   extra protocol_rig.launch arguments
 #   VT_NETNS=0 ... do not run the rig in its own network namespace
 #   SNAPSHOTS=0 ...   no specimen snapshots (and no specimen picture)
+#   VT_SKIP_BUILD=1 ...  skip the package check and the build (already done)
 #
 # Default protocol: config/protocols/drained_100kPa_adaptive.yaml (the
 # shipped dense 1000-sphere sample, servo consolidation at 100 kPa, a
@@ -57,7 +58,8 @@ repo="$(pwd)"
 if [[ -z "${VT_IN_NETNS:-}" ]]; then
   # shellcheck source=SCRIPTDIR/lib/ensure_built.sh
   source launch_equiv_scripts/lib/ensure_built.sh
-  vt_ensure_built all
+  # VT_SKIP_BUILD=1: the caller has built everything (the fault tests).
+  if [[ "${VT_SKIP_BUILD:-0}" == 1 ]]; then vt_use_system_path; else vt_ensure_built all; fi
   # The rest runs in a network namespace holding only loopback (the build
   # above may need the network; the rig must not be reachable from it).
   if [[ "${VT_NETNS:-1}" != 0 ]]; then
