@@ -43,6 +43,20 @@
 
 namespace vt::nodelets {
 
+/// Runs a node's constructor; a bad parameter (a wrong launch argument of
+/// protocol_rig.launch: same names, servo_X -> /servo/~X) is logged as the
+/// stand-alone node logs it, "<node>: ~<param>: <what it takes>", before the
+/// manager's bare "Failed to load nodelet".
+template <class F>
+void construct_or_report(const std::string& node, F&& construct) {
+  try {
+    construct();
+  } catch (const std::exception& e) {
+    ROS_FATAL("%s: %s", node.substr(node.rfind('/') + 1).c_str(), e.what());
+    throw;
+  }
+}
+
 /// dem_node: DemNode::spin() in a thread of its own; stop() on unload.
 class DemNodelet : public nodelet::Nodelet {
  public:
@@ -53,7 +67,9 @@ class DemNodelet : public nodelet::Nodelet {
 
  private:
   void onInit() override {
-    node_ = std::make_unique<vt::ros::DemNode>(getNodeHandle(), getPrivateNodeHandle());
+    construct_or_report(getName(), [&] {
+      node_ = std::make_unique<vt::ros::DemNode>(getNodeHandle(), getPrivateNodeHandle());
+    });
     thread_ = std::thread([this] { node_->spin(); });
   }
   std::unique_ptr<vt::ros::DemNode> node_;
@@ -76,7 +92,7 @@ class QueueThreadNodelet : public nodelet::Nodelet {
     ::ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
     nh.setCallbackQueue(&queue_);
     pnh.setCallbackQueue(&queue_);
-    node_ = make(nh, pnh);
+    construct_or_report(getName(), [&] { node_ = make(nh, pnh); });
     thread_ = std::thread([this] {
       while (running_ && ::ros::ok()) queue_.callAvailable(::ros::WallDuration(0.05));
     });
@@ -124,12 +140,14 @@ class BagRecorderNodelet : public nodelet::Nodelet {
   void onInit() override {
     ::ros::NodeHandle nh = getNodeHandle(), pnh = getPrivateNodeHandle();
     nh.setCallbackQueue(&queue_);
-    std::string prefix;
-    if (!pnh.getParam("prefix", prefix)) throw std::invalid_argument("~prefix: required (bag files <prefix>_<k>.bag)");
-    const double split_mb = pnh.param("split_mb", 512.0);
-    if (!(split_mb > 0.0)) throw std::invalid_argument("~split_mb: must be > 0");
-    recorder_ = std::make_unique<vt::ros::BagRecorder>(
-        nh, prefix, static_cast<std::uint64_t>(split_mb * 1024.0 * 1024.0), true);
+    construct_or_report(getName(), [&] {
+      std::string prefix;
+      if (!pnh.getParam("prefix", prefix)) throw std::invalid_argument("~prefix: required (bag files <prefix>_<k>.bag)");
+      const double split_mb = pnh.param("split_mb", 512.0);
+      if (!(split_mb > 0.0)) throw std::invalid_argument("~split_mb: must be > 0");
+      recorder_ = std::make_unique<vt::ros::BagRecorder>(
+          nh, prefix, static_cast<std::uint64_t>(split_mb * 1024.0 * 1024.0), true);
+    });
     // Polls instead of waiting on the queue: a thread asleep on the queue
     // costs the publisher a wake-up call per message, and the recorder has
     // no latency to keep (its queues are deep).

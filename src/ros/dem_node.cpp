@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <boost/make_shared.hpp>
@@ -57,17 +58,22 @@ void DemNode::read_parameters() {
   if (sample.has_value() == scene.has_value())
     throw std::invalid_argument("~sample / ~scene: give exactly one (HDF5 sample file or YAML scene)");
 
-  int every = 10;
-  pnh_.param("publish_every", every, 10);
-  if (every < 1) throw std::invalid_argument("~publish_every: must be an integer >= 1");
+  const int every = optional_int(pnh_, "publish_every").value_or(10);
+  if (every < 1)
+    throw std::invalid_argument("~publish_every: must be a whole number >= 1 (DEM steps per control tick)");
   publish_every_ = every;
-  pnh_.param("lockstep", lockstep_, true);
+  lockstep_ = optional_bool(pnh_, "lockstep").value_or(true);
   lockstep_timeout_ = optional_double(pnh_, "lockstep_timeout").value_or(2.0);
   if (!(std::isfinite(lockstep_timeout_) && lockstep_timeout_ > 0.0))
     throw std::invalid_argument("~lockstep_timeout: must be > 0 wall seconds");
   max_dimensionless_rate_ = optional_double(pnh_, "max_dimensionless_rate").value_or(io::RunLimits{}.max_dimensionless_rate);
-  if (!(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0))
-    throw std::invalid_argument("~max_dimensionless_rate: must be > 0");
+  if (const double limit = io::RunLimits{}.max_dimensionless_rate;
+      !(std::isfinite(max_dimensionless_rate_) && max_dimensionless_rate_ > 0.0 && max_dimensionless_rate_ <= limit)) {
+    char b[160];
+    std::snprintf(b, sizeof b, "~max_dimensionless_rate: must be > 0 and at most the run limit %g (io/run_limits.h)",
+                  limit);
+    throw std::invalid_argument(b);
+  }
   const double clock_rate = optional_double(pnh_, "clock_rate").value_or(200.0);
   if (!(std::isfinite(clock_rate) && clock_rate >= 0.0))
     throw std::invalid_argument("~clock_rate: must be >= 0 Hz (0: every control tick)");
@@ -75,11 +81,11 @@ void DemNode::read_parameters() {
   diagnostics_period_ = optional_double(pnh_, "diagnostics_period").value_or(1.0);
   if (!(std::isfinite(diagnostics_period_) && diagnostics_period_ > 0.0))
     throw std::invalid_argument("~diagnostics_period: must be > 0 wall seconds");
-  pnh_.param("start_paused", paused_, false);
+  paused_ = optional_bool(pnh_, "start_paused").value_or(false);
   // ~threads: OpenMP threads of the DEM steps; 0 (default) = chosen at run
   // time up to OMP_NUM_THREADS / every core (dem/thread_governor.h), so a
   // busy machine does not make the rig wait at barriers.
-  pnh_.param("threads", threads_, 0);
+  threads_ = optional_int(pnh_, "threads").value_or(0);
   if (threads_ < 0) throw std::invalid_argument("~threads: must be >= 0 (0: chosen at run time)");
 
   SpecimenOverrides o;

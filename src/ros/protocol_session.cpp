@@ -252,7 +252,7 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
   ctx_.t0 = info.response.t0;
   ctx_.dt = info.response.dt;
   ctx_.l0 = info.response.l0;
-  if (const std::string bad = io::check_rate_limits(scene, ctx_.t0); !bad.empty()) throw RigError(bad);
+  if (const std::string bad = io::check_rate_limits(scene, ctx_.t0); !bad.empty()) throw RigError("protocol: " + bad);
   virtual_triaxial::ClaimAxes claim;  // lockstep participant, no axes
   claim.request.owner = owner_;
   call("claim_axes", claim);

@@ -28,6 +28,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "../unit/support/run_limits_cases.h"
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -568,32 +570,16 @@ TEST(ProtocolRig, BadGoalsAreRefusedNamingTheFieldAndTheNodeKeepsServing) {
   EXPECT_EQ(fmt9(r.result.phi_peak), fmt9(g_drained.result.phi_peak));
 }
 
-// The limits of io/run_limits.h: the same bad rates, c_t and particle count
-// that triax_run refuses (test_triax_run_cli) are refused by the rig before
-// it runs, with the same message.
+// The limits of io/run_limits.h: the table tests/data/run_limits_cases.yaml
+// (bad rates, c_t values and a particle count), which test_triax_run_cli
+// feeds to triax_run, goes to both runners here: each refuses it before it
+// runs, the rig with the same line as triax_run, and that line is the
+// table's.
 TEST(ProtocolRig, RunLimitsRefuseTheSameValuesAsTriaxRun) {
   Rig& rig = *g_rig;
   const std::uint64_t tick0 = rig.info().tick;
-  std::string base = slurp(g_protocols + "/drained_mini.yaml");
-  const std::string rel = "../sample_200_100kPa.h5";
-  ASSERT_NE(base.find(rel), std::string::npos);
-  base.replace(base.find(rel), rel.size(), g_sample);
-  auto with = [&](const std::string& from, const std::string& to) {
-    std::string y = base;
-    const std::size_t at = y.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) y.replace(at, from.size(), to);
-    return y;
-  };
-  const struct {
-    std::string name, yaml;
-  } cases[] = {
-      {"rate_1e-2", with("strain_rate_dimensionless: 1.0e-5", "strain_rate_dimensionless: 1.0e-2")},
-      {"rate_1e3", with("strain_rate_dimensionless: 1.0e-5", "strain_rate_dimensionless: 1.0e3")},
-      {"ct_50", with("time_step_ratio: 0.1", "time_step_ratio: 50.0")},
-      {"count_1e12", with("particles:\n  sample_file: " + g_sample,
-                          "particles:\n  distribution: {count: 1000000000000, radius_min: 1.0e-3, radius_max: 1.2e-3}")},
-  };
+  const auto cases = vt::test::run_limits_cases(fs::path(g_protocols).parent_path().string(), g_sample);
+  ASSERT_GE(cases.size(), 5u);
   for (const auto& c : cases) {
     const fs::path file = fs::path(g_tmp) / ("limits_" + c.name + ".yaml");
     std::ofstream(file) << c.yaml;
@@ -607,14 +593,14 @@ TEST(ProtocolRig, RunLimitsRefuseTheSameValuesAsTriaxRun) {
     ASSERT_EQ(headless.rfind(prefix, 0), 0u) << c.name << ": " << headless;
     headless = headless.substr(prefix.size());
     while (!headless.empty() && headless.back() == '\n') headless.pop_back();
+    EXPECT_EQ(headless.rfind(c.message, 0), 0u) << c.name << ": triax_run '" << headless << "'";
     vtm::RunTestGoal g;
     g.protocol_yaml = c.yaml;
     g.output_dir = g_tmp + "/limits_" + c.name;
     const TestRun r = rig.run(g, 60.0);
     ASSERT_TRUE(r.finished) << c.name;
     EXPECT_EQ(r.result.verdict, "failed") << c.name;
-    EXPECT_TRUE(contains(r.result.message, headless)) << c.name << ": rig '" << r.result.message << "' vs triax_run '"
-                                                      << headless << "'";
+    EXPECT_EQ(r.result.message, "protocol: " + headless) << c.name << ": the rig and triax_run refuse alike";
   }
   const vtm::GetInfo::Response i = rig.info();
   EXPECT_TRUE(i.paused) << "a refused goal left the rig running";

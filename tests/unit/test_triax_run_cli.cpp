@@ -6,6 +6,7 @@
 // (io/run_limits.h: rate, c_t, particle count) refuse before the run starts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "virtual_triaxial/io/results_file.h"
 #include "virtual_triaxial/io/sample_file.h"
 #include "support/cli.h"
+#include "support/run_limits_cases.h"
 #include "virtual_triaxial/dem/random_stream.h"
 
 namespace fs = std::filesystem;
@@ -78,38 +80,25 @@ std::string dense_lattice_particles() {
 }  // namespace
 
 // The limits of io/run_limits.h refuse before the run starts, naming the
-// field (the same table goes to the rig in test_protocol_rig).
+// field: the table tests/data/run_limits_cases.yaml, which test_protocol_rig
+// feeds to the rig too. --check refuses the same files with the same line.
 TEST(TriaxRunCli, RunLimitsRefuseBeforeTheRunNamingTheField) {
-  struct Case {
-    std::string name, knobs, rate, message;
-  } cases[] = {
-      {"rate_1e-2", "time_step_ratio: 0.3\n", "1.0e-2",
-       "stages[0].strain_rate_dimensionless: eps' = 0.01 is above the limit 0.001"},
-      {"rate_1e3", "time_step_ratio: 0.3\n", "1.0e3",
-       "stages[0].strain_rate_dimensionless: eps' = 1000 is above the limit 0.001"},
-      {"ct_50", "time_step_ratio: 50.0\n", "1.0e-5", "time_step_ratio: 50 is above the limit 10"},
-  };
-  const std::string particles = dense_lattice_particles();
-  for (const Case& c : cases) {
-    const std::string yaml = particles + c.knobs +
-                             "stages:\n  - {name: shear, type: undrained_shear, strain_rate_dimensionless: " + c.rate +
-                             ", stop: {axial_strain: 0.3}}\noutput: {interval: 20, progress_seconds: 100}\n";
-    const fs::path out = tmpdir() / (c.name + ".h5");
+  const std::string data = std::string(VT_SOURCE_DIR) + "/tests/data";
+  const auto cases = vt::test::run_limits_cases(data, data + "/sample_200_100kPa.h5");
+  ASSERT_GE(cases.size(), 5u);
+  for (const auto& c : cases) {
+    const fs::path out = tmpdir() / ("limits_" + c.name + ".h5");
     fs::remove(out);
-    const CliRun r = triax_run(write_scene(c.name + ".yaml", yaml).string() + " --out " + out.string());
+    const std::string scene = write_scene("limits_" + c.name + ".yaml", c.yaml).string();
+    const CliRun r = triax_run(scene + " --out " + out.string());
     EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
-    EXPECT_NE(r.err.find("triax_run: error: " + c.message), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("triax_run: error: " + c.message, 0), 0u) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": one-line error: " << r.err;
     EXPECT_FALSE(fs::exists(out)) << c.name << ": refused, yet it ran";
+    const CliRun check = triax_run(scene + " --check");
+    EXPECT_EQ(check.code, 2) << c.name << ": --check accepted it";
+    EXPECT_EQ(check.err, r.err) << c.name << ": --check and the run refuse alike";
   }
-  // 1e12 particles: refused naming the count before any memory is taken (no bad_alloc).
-  const std::string huge =
-      "particles: {distribution: {count: 1000000000000, radius_min: 1.0e-3, radius_max: 1.2e-3}}\n" +
-      std::string(kStages);
-  const CliRun r = triax_run(write_scene("huge.yaml", huge).string() + " --out " + (tmpdir() / "huge.h5").string());
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find("triax_run: error: particles.distribution.count: 1e+12 particles need about"),
-            std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one-line error: " << r.err;
 }
 
 // A blow-up before the first sample still leaves a last good state: the initial one.
@@ -122,7 +111,9 @@ TEST(TriaxRunCli, FailureBeforeTheFirstSampleSavesTheInitialStateAsLastGood) {
   ASSERT_EQ(r.code, 3) << r.err;
   const auto series = vt::io::read_results_series(out.string());
   ASSERT_LE(series.size(), 1u) << "no sample tick before the blow-up";
-  if (!series.empty()) EXPECT_EQ(series.front().step, 0) << "only the initial state";
+  if (!series.empty()) {
+    EXPECT_EQ(series.front().step, 0) << "only the initial state";
+  }
   ASSERT_TRUE(fs::exists(out.string() + ".last_good.h5")) << r.err;
   const vt::dem::SimulationState s = vt::io::read_sample(out.string() + ".last_good.h5");
   EXPECT_EQ(s.particles.size(), 216u);

@@ -28,4 +28,22 @@ inline std::optional<std::string> optional_string(const ::ros::NodeHandle& pnh, 
   return std::nullopt;
 }
 
+/// A whole-number parameter; throws naming "~name" when it is set but not one
+/// (e.g. a launch argument `publish_every:=abc`, which ros::param would
+/// silently replace by its default).
+inline std::optional<int> optional_int(const ::ros::NodeHandle& pnh, const std::string& name) {
+  int i;
+  if (pnh.getParam(name, i)) return i;
+  if (pnh.hasParam(name)) throw std::invalid_argument("~" + name + ": must be a whole number");
+  return std::nullopt;
+}
+
+/// A true/false parameter; throws naming "~name" when it is set but not one.
+inline std::optional<bool> optional_bool(const ::ros::NodeHandle& pnh, const std::string& name) {
+  bool b;
+  if (pnh.getParam(name, b)) return b;
+  if (pnh.hasParam(name)) throw std::invalid_argument("~" + name + ": must be true or false");
+  return std::nullopt;
+}
+
 }  // namespace vt::ros
