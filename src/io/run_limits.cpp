@@ -49,7 +49,7 @@ std::string check_rate_limits(const SceneConfig& scene, double t0, const RunLimi
   for (std::size_t i = 0; i < scene.stages.size(); ++i) {
     const StageSpec& st = scene.stages[i];
     const bool dimensionless = st.strain_rate_dimensionless.has_value();
-    if (!dimensionless && !st.strain_rate) continue;
+    if (!dimensionless && (!st.strain_rate || !(t0 > 0))) continue;  // t0 unknown: the dimensionless rates only
     const double eps = dimensionless ? *st.strain_rate_dimensionless : *st.strain_rate * t0;
     if (std::fabs(eps) > max)
       return "stages[" + std::to_string(i) + "]." + (dimensionless ? "strain_rate_dimensionless" : "strain_rate") +

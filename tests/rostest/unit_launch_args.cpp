@@ -1,9 +1,8 @@
 // protocol_rig.launch with a wrong argument: the node that takes it stops at
 // start with one line naming the argument (its parameter: the same name,
 // servo_X -> /servo ~X) and what it takes, also in the nodelet rig (where
-// the manager itself only says "Failed to load nodelet"). Each case starts
-// roslaunch on a master port of its own, waits for the FATAL line and stops
-// the launch.
+// the manager itself only says "Failed to load nodelet"). Each launch runs
+// on a master port of its own until the FATAL lines are there.
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,6 +10,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -29,67 +29,116 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-/// The first line of `log` holding `what` ("" when none).
-std::string line_with(const std::string& log, const std::string& what) {
-  const std::size_t at = log.find(what);
-  if (at == std::string::npos) return "";
-  const std::size_t b = log.rfind('\n', at), e = log.find('\n', at);
-  return log.substr(b == std::string::npos ? 0 : b + 1, e == std::string::npos ? std::string::npos : e - b - 1);
-}
-
-/// roslaunch protocol_rig.launch ARGS until its log names `node` in a FATAL
-/// line (or 60 s); returns that line.
-std::string fatal_line(const std::string& args, const std::string& node, int port) {
-  const fs::path dir = fs::temp_directory_path() / ("vt_launch_args_" + std::to_string(::getpid()) + "_" +
-                                                    std::to_string(port));
-  fs::create_directories(dir);
-  const fs::path log = dir / "launch.log";
-  const std::string cmd = "set +u; source '" VT_PROGRAM_DIR "/../../setup.bash' && export ROS_MASTER_URI=http://127.0.0.1:" +
-                          std::to_string(port) + " ROS_IP=127.0.0.1 ROS_HOME='" + dir.string() +
-                          "' && exec roslaunch virtual_triaxial protocol_rig.launch " + args + " > '" + log.string() +
-                          "' 2>&1";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::setpgid(0, 0);
-    ::execl("/bin/bash", "bash", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+/// Parent pid of a process (0 if gone).
+int parent_of(int pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
   std::string line;
-  const auto t0 = Clock::now();
-  while (std::chrono::duration<double>(Clock::now() - t0).count() < 60.0) {
-    line = line_with(slurp(log), "[FATAL]");
-    if (!line.empty() && line.find(node + ":") != std::string::npos) break;
-    if (::waitpid(pid, nullptr, WNOHANG) == pid) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
-  ::kill(-pid, SIGINT);
-  for (int i = 0; i < 100 && ::waitpid(pid, nullptr, WNOHANG) == 0; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  ::kill(-pid, SIGKILL);
-  ::waitpid(pid, nullptr, WNOHANG);
-  if (line.empty()) ADD_FAILURE() << args << ": no FATAL line; log:\n" << slurp(log);
-  fs::remove_all(dir);
-  return line;
+  if (!std::getline(in, line)) return 0;
+  std::istringstream rest(line.substr(line.rfind(')') + 2));
+  char state;
+  int ppid = 0;
+  rest >> state >> ppid;
+  return ppid;
 }
 
-int free_port(int base) { return base + static_cast<int>(::getpid() % 2000); }
+/// `root` and every process below it.
+std::set<int> descendants(int root) {
+  std::set<int> out{root};
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const auto& e : fs::directory_iterator("/proc")) {
+      const std::string name = e.path().filename().string();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+      const int pid = std::stoi(name);
+      if (!out.count(pid) && out.count(parent_of(pid))) grew = out.insert(pid).second;
+    }
+  }
+  return out;
+}
+
+/// roslaunch protocol_rig.launch with ARGS in the background, on a master
+/// port of its own; its log says what the nodes said.
+class Launch {
+ public:
+  Launch(const std::string& args, int port) : args_(args) {
+    dir_ = fs::temp_directory_path() / ("vt_launch_args_" + std::to_string(::getpid()) + "_" + std::to_string(port));
+    fs::create_directories(dir_);
+    log_ = dir_ / "launch.log";
+    const std::string cmd = "set +u; source '" VT_PROGRAM_DIR "/../../setup.bash' && export ROS_MASTER_URI=http://127.0.0.1:" +
+                            std::to_string(port) + " ROS_IP=127.0.0.1 ROS_HOME='" + dir_.string() +
+                            "' && exec roslaunch virtual_triaxial protocol_rig.launch " + args + " > '" + log_.string() +
+                            "' 2>&1";
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::setpgid(0, 0);
+      ::execl("/bin/bash", "bash", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~Launch() {
+    // roslaunch stops its nodes on SIGINT; whatever is left (a slow stop on
+    // a busy machine) is killed, found as descendants before the stop.
+    const std::set<int> tree = descendants(pid_);
+    ::kill(-pid_, SIGINT);
+    for (int i = 0; i < 300 && ::waitpid(pid_, nullptr, WNOHANG) == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    for (int p : tree) ::kill(p, SIGKILL);
+    ::kill(-pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+    // the master roslaunch started detaches from it: found by its log path
+    for (const auto& e : fs::directory_iterator("/proc")) {
+      const std::string name = e.path().filename().string();
+      if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+      std::string cmd = slurp(e.path() / "cmdline");
+      if (cmd.find(dir_.string() + "/") != std::string::npos) ::kill(std::stoi(name), SIGKILL);
+    }
+    fs::remove_all(dir_);
+  }
+  /// The FATAL line of `node` ("" when none yet).
+  std::string fatal(const std::string& node) const {
+    std::istringstream in(slurp(log_));
+    for (std::string line; std::getline(in, line);)
+      if (line.find("[FATAL]") != std::string::npos && line.find(" " + node + ": ") != std::string::npos) return line;
+    return "";
+  }
+  std::string log() const { return args_ + ":\n" + slurp(log_); }
+
+ private:
+  std::string args_;
+  fs::path dir_, log_;
+  pid_t pid_ = -1;
+};
 
 }  // namespace
 
+// Two launches side by side (a roslaunch start takes seconds): the nodelet
+// rig with two wrong arguments (dem_node's and the servo's) and the
+// three-process rig with a third.
 TEST(LaunchArgs, AWrongArgumentIsNamedWithWhatItTakes) {
+  const int port = 21000 + static_cast<int>(::getpid() % 2000);
   const struct {
-    std::string args, node, message;
+    int launch;
+    std::string node, message;
   } cases[] = {
-      {"publish_every:=abc", "dem_node", "~publish_every: must be a whole number"},
-      {"max_dimensionless_rate:=0.01", "dem_node",
-       "~max_dimensionless_rate: must be > 0 and at most the run limit 0.001"},
-      {"servo_strategy:=foo", "servo", "unknown servo strategy 'foo' (known: proportional, pid)"},
-      {"nodelets:=false lockstep_timeout:=soon", "dem_node", "~lockstep_timeout: must be a number"},
+      {0, "dem_node", "~publish_every: must be a whole number"},
+      {0, "servo", "unknown servo strategy 'foo' (known: proportional, pid)"},
+      {1, "dem_node", "~max_dimensionless_rate: must be > 0 and at most the run limit 0.001"},
   };
-  int port = free_port(21000);
-  for (const auto& c : cases) {
-    const std::string line = fatal_line(c.args, c.node, port++);
-    EXPECT_NE(line.find(c.node + ": "), std::string::npos) << c.args << ": " << line;
-    EXPECT_NE(line.find(c.message), std::string::npos) << c.args << ": " << line;
+  Launch launches[] = {Launch("publish_every:=abc servo_strategy:=foo", port),
+                       Launch("nodelets:=false max_dimensionless_rate:=0.01", port + 1)};
+  std::string lines[3];
+  const auto t0 = Clock::now();
+  while (std::chrono::duration<double>(Clock::now() - t0).count() < 120.0) {
+    bool all = true;
+    for (int i = 0; i < 3; ++i) {
+      if (lines[i].empty()) lines[i] = launches[cases[i].launch].fatal(cases[i].node);
+      all = all && !lines[i].empty();
+    }
+    if (all) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_FALSE(lines[i].empty()) << cases[i].node << " said nothing fatal; " << launches[cases[i].launch].log();
+    EXPECT_NE(lines[i].find(cases[i].message), std::string::npos) << lines[i];
   }
 }

@@ -33,7 +33,9 @@ struct RunLimits {
 std::string check_scene_limits(const SceneConfig& scene, const RunLimits& limits = {});
 
 /// Once the specimen exists (T0 [s] known), before the first step: the
-/// strain rate of every stage and the servo's rate limit.
+/// strain rate of every stage and the servo's rate limit. t0 = 0 (not known
+/// yet, e.g. triax_run --check, which builds no specimen): the rates given
+/// as strain_rate [1/s] are not checked.
 std::string check_rate_limits(const SceneConfig& scene, double t0, const RunLimits& limits = {});
 
 }  // namespace vt::io
