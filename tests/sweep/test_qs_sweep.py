@@ -129,9 +129,19 @@ class FailedRun(unittest.TestCase):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
     def test_unstable_run_is_reported_and_the_rest_fitted(self):
-        # eps' = 0.05 overlaps the particles beyond the limit: triax_run exits 3
+        # eps' above 1e-3 is refused before any run (io/run_limits.h); at
+        # c_t = 3 (within the limit 10, above the critical 1) eps' = 1e-3
+        # overlaps the particles beyond the limit (triax_run exits 3) while
+        # 2e-5 and 1e-5 complete
+        with open(PROTOCOL) as f:
+            text = f.read()
+        text = text.replace("time_step_ratio: 0.3", "time_step_ratio: 3.0").replace(
+            "../../../config/samples/", os.path.join(REPO, "config", "samples") + "/")
+        protocol = os.path.join(self.tmp, "qs_sweep_mini_ct3.yaml")
+        with open(protocol, "w") as f:
+            f.write(text)
         out = os.path.join(self.tmp, "report")
-        code, res, err = qs(["rate-sweep", PROTOCOL, "--rates", "0.05,1e-4,5e-5", "--out", out])
+        code, res, err = qs(["rate-sweep", protocol, "--rates", "1e-3,2e-5,1e-5", "--out", out])
         self.assertEqual(code, 3, err)
         self.assertEqual((res["runs"], res["runs_completed"], res["runs_failed"]), (3, 2, 1))
         runs = read_csv(os.path.join(out, "runs.csv"))
