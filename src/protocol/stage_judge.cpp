@@ -57,6 +57,7 @@ StageJudge::StageJudge(const StageSpec& stage, const RunOptions& options, double
   if (stage.rate_spec.strategy != control::RateStrategyKind::Fixed) rate0_ = predicted_rate(stage, options, t0, specimen);
   if (rate0_ > 0.0) {  // an open-loop axial rate: the strategy commands it
     strategy_ = control::make_rate_strategy(stage.rate_spec, t0);
+    needs_index_ = stage.rate_spec.strategy == control::RateStrategyKind::Adaptive;
     strategy_->start(rate0_);
     rate0_ = strategy_->rate();  // adaptive: clamped to [eps'_min, eps'_max] / T0
   }

@@ -307,6 +307,22 @@ void expect_stamps_rising(const TestRun& r) {
   }
 }
 
+/// `run()` with two busy threads beside it (the rig must stay deterministic).
+template <class Run>
+auto under_cpu_load(Run run) {
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> hogs;
+  for (int i = 0; i < 2; ++i)
+    hogs.emplace_back([&stop] {
+      volatile std::uint64_t x = 0;
+      while (!stop.load(std::memory_order_relaxed)) x = x + 1;
+    });
+  auto result = run();
+  stop = true;
+  for (std::thread& t : hogs) t.join();
+  return result;
+}
+
 /// Runs `protocol` headless (triax_run) and expects the rig's summary of run
 /// `r` to equal its, number for number (the same decisions, tick for tick).
 void expect_same_as_triax_run(const TestRun& r, const std::string& protocol, const std::string& dir) {
@@ -416,16 +432,7 @@ TEST(ProtocolRig, UndrainedMiniTestKeepsTheCellVolumeConstant) {
 TEST(ProtocolRig, ARunUnderCpuLoadIsBitIdentical) {
   Rig& rig = *g_rig;
   ASSERT_EQ(g_drained.result.verdict, "completed") << "run of test 1 missing";
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> hogs;
-  for (int i = 0; i < 2; ++i)
-    hogs.emplace_back([&stop] {
-      volatile std::uint64_t x = 0;
-      while (!stop.load(std::memory_order_relaxed)) x = x + 1;
-    });
-  const TestRun b = rig.run(file_goal("drained_mini.yaml", "drained_loaded"));
-  stop = true;
-  for (std::thread& t : hogs) t.join();
+  const TestRun b = under_cpu_load([&] { return rig.run(file_goal("drained_mini.yaml", "drained_loaded")); });
   ASSERT_TRUE(b.finished);
   std::printf("[protocol_rig] drained mini under load: %s in %.1f s wall (%.1f s unloaded)\n",
               b.result.verdict.c_str(), b.wall, g_drained.wall);
@@ -644,16 +651,7 @@ int main(int argc, char** argv) {
 TEST(ProtocolRig, AdaptiveRateControllerTakesTriaxRunsDecisionsUnderLoad) {
   Rig& rig = *g_rig;
   ASSERT_TRUE(rig.ready()) << "no run_test action server / rig topics";
-  std::atomic<bool> stop{false};
-  std::vector<std::thread> hogs;
-  for (int i = 0; i < 2; ++i)
-    hogs.emplace_back([&stop] {
-      volatile std::uint64_t x = 0;
-      while (!stop.load(std::memory_order_relaxed)) x = x + 1;
-    });
-  const TestRun r = rig.run(file_goal("adaptive_mini.yaml", "adaptive"));
-  stop = true;
-  for (std::thread& t : hogs) t.join();
+  const TestRun r = under_cpu_load([&] { return rig.run(file_goal("adaptive_mini.yaml", "adaptive")); });
   ASSERT_TRUE(r.finished) << "no result within " << kRunTimeout << " s";
   std::printf("[protocol_rig] adaptive mini under load: %s in %.1f s wall, %llu ticks\n", r.result.verdict.c_str(),
               r.wall, static_cast<unsigned long long>(r.result.ticks));

@@ -81,7 +81,7 @@ class StageJudge {
   /// Axial rate for the first tick [1/s] (later ones: TickDecision::axial_rate).
   double first_axial_rate() const { return rate0_; }
   /// True when decide() needs TickSample::moment_index on every tick.
-  bool needs_moment_index() const { return strategy_ && strategy_->name() == std::string("adaptive"); }
+  bool needs_moment_index() const { return needs_index_; }
   /// The rate strategy's name ("fixed" for stages without an axial rate).
   const char* strategy_name() const { return strategy_ ? strategy_->name() : "fixed"; }
 
@@ -112,6 +112,7 @@ class StageJudge {
   double t0_;
   // decide()'s state: the rate strategy and the strain each sample covers.
   std::unique_ptr<control::RateStrategy> strategy_;  ///< null without an open-loop axial rate
+  bool needs_index_ = false;                         ///< the strategy reads I_mom (adaptive)
   double quasi_static_threshold_ = 1e-3;
   double rate0_ = 0.0, rate_ = 0.0;
   double rate_min_ = 0.0, rate_max_ = 0.0;  ///< |axial rate| used [1/s]
