@@ -25,6 +25,13 @@ AdaptiveRate::AdaptiveRate(const AdaptiveRateParameters& p) : p_(p) {
   if (!bad.empty()) throw std::invalid_argument(bad);
 }
 
+void AdaptiveRate::restore_memory(const std::vector<double>& m) {
+  if (m.size() != 3) throw std::invalid_argument("rate memory: 'adaptive' keeps 3 numbers");
+  rate_ = m[0];
+  smoothed_ = m[1];
+  have_index_ = m[2] != 0.0;
+}
+
 void AdaptiveRate::start(double rate0) {
   if (!(std::isfinite(rate0) && rate0 > 0.0)) throw std::invalid_argument("rate0: must be finite and > 0");
   rate_ = std::min(std::max(rate0, p_.min_dimensionless / p_.t0), p_.max_dimensionless / p_.t0);

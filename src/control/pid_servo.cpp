@@ -44,6 +44,23 @@ void PidServo::set_targets(const dem::Vec3& target_stress) {
   store_targets(target_stress);
 }
 
+std::vector<double> PidServo::memory() const {
+  std::vector<double> m;
+  for (const dem::Vec3* v : {&integral_, &prev_error_, &prev_rate_})
+    for (int i = 0; i < 3; ++i) m.push_back((*v)[i]);
+  m.push_back(has_prev_ ? 1.0 : 0.0);
+  return m;
+}
+
+void PidServo::restore_memory(const std::vector<double>& m) {
+  if (m.size() != 10)
+    throw std::invalid_argument("servo memory: the 'pid' law keeps 10 numbers, got " + std::to_string(m.size()));
+  std::size_t k = 0;
+  for (dem::Vec3* v : {&integral_, &prev_error_, &prev_rate_})
+    for (int i = 0; i < 3; ++i) (*v)[i] = m[k++];
+  has_prev_ = m[9] != 0.0;
+}
+
 void PidServo::start(double /*time*/) {
   require_initialised("start()");
   reset_state();

@@ -13,6 +13,11 @@ void FixedRate::start(double rate0) {
   started_ = true;
 }
 
+void FixedRate::restore_memory(const std::vector<double>& m) {
+  if (m.size() != 1) throw std::invalid_argument("rate memory: '" + std::string(name_) + "' keeps 1 number");
+  rate_ = m[0];
+}
+
 double FixedRate::update(const RateInput&) {
   if (!started_) throw std::logic_error("FixedRate::update before start");
   return rate_;

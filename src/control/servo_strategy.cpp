@@ -48,6 +48,12 @@ void validate_servo_parameters(const ServoParameters& p) {
         std::to_string(p.max_rate_change));
 }
 
+void ServoStrategy::restore_memory(const std::vector<double>& m) {
+  if (!m.empty())
+    throw std::invalid_argument("servo memory: the '" + name() + "' law keeps none, got " + std::to_string(m.size()) +
+                                " numbers");
+}
+
 void ServoStrategy::store_targets(const dem::Vec3& target_stress) {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(target_stress[i]))

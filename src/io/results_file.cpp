@@ -156,6 +156,11 @@ void ResultsWriter::append(const dem::Measures& m) {
   series_.push_back(m);
 }
 
+void ResultsWriter::restore_series(std::vector<dem::Measures> rows) {
+  check_open("restore_series");
+  series_ = std::move(rows);
+}
+
 void ResultsWriter::set_summary(const std::map<std::string, double>& numbers,
                                 const std::map<std::string, std::string>& texts) {
   check_open("set_summary");

@@ -2,13 +2,32 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "virtual_triaxial/io/sample_file.h"
 
 namespace vt::io {
 
 ResultsRecorder::ResultsRecorder(const std::string& path, bool quiet, double flush_seconds)
-    : writer_(path), quiet_(quiet), flush_seconds_(flush_seconds), last_flush_(std::chrono::steady_clock::now()) {}
+    : writer_(path), quiet_(quiet), flush_seconds_(flush_seconds), last_flush_(std::chrono::steady_clock::now()) {
+  writer_.set_summary({}, {{"verdict", "interrupted"},
+                           {"failure", "the run stopped before it finished: the series as of the last flush"}});
+}
+
+void ResultsRecorder::resume(std::size_t rows) {
+  std::vector<dem::Measures> series = read_results_series(writer_.path(), writer_.group());
+  if (series.size() < rows)
+    throw std::runtime_error(writer_.path() + ": holds " + std::to_string(series.size()) +
+                             " samples, fewer than the checkpoint's " + std::to_string(rows));
+  series.resize(rows);
+  writer_.restore_series(std::move(series));
+}
+
+void ResultsRecorder::flush_partial(const std::string& note) {
+  writer_.set_summary({}, {{"verdict", "interrupted"}, {"failure", note}});
+  writer_.flush();
+  last_flush_ = std::chrono::steady_clock::now();
+}
 
 void ResultsRecorder::on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) {
   if (quiet_) return;

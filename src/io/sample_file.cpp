@@ -422,20 +422,23 @@ SampleMetadata read_preparation(const h5::Group& root) {
 
 }  // namespace
 
-void write_sample(const std::string& path, const dem::SimulationState& s, const SampleMetadata& meta) {
-  check_state(path, s);
-  h5::AtomicFile file(path);  // removes the temporary file unless committed
-  const h5::Group& root = file.root();
+void write_sample_into(const h5::Group& root, const dem::SimulationState& s, const SampleMetadata& meta) {
+  check_state(root.file(), s);
   root.set_attr("format", kSampleFormat);
   root.set_attr("format_version", kSampleFormatVersion);
   write_particles(root, s);
   write_contacts(root, s.contacts);
   write_rest(root, s, meta);
+}
+
+void write_sample(const std::string& path, const dem::SimulationState& s, const SampleMetadata& meta) {
+  check_state(path, s);
+  h5::AtomicFile file(path);  // removes the temporary file unless committed
+  write_sample_into(file.root(), s, meta);
   file.commit();
 }
 
-dem::SimulationState read_sample(const std::string& path, SampleMetadata* meta) {
-  const h5::Group root = h5::Group::open_file_read(path);
+dem::SimulationState read_sample_from(const h5::Group& root, SampleMetadata* meta) {
   check_format(root);
   dem::SimulationState s;
   read_particles(root, s.particles);
@@ -446,6 +449,10 @@ dem::SimulationState read_sample(const std::string& path, SampleMetadata* meta) 
   const SampleMetadata m = read_preparation(root);
   if (meta != nullptr) *meta = m;
   return s;
+}
+
+dem::SimulationState read_sample(const std::string& path, SampleMetadata* meta) {
+  return read_sample_from(h5::Group::open_file_read(path), meta);
 }
 
 }  // namespace vt::io

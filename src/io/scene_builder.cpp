@@ -20,6 +20,8 @@ protocol::RunOptions SceneConfig::run_options() const {
   o.quasi_static_threshold = control.quasi_static_threshold;
   o.young_modulus = material.young;  // the runners set the specimen's own (a sample file's) per stage
   o.qs_damping = damping.model() == dem::DampingModel::ND ? quasi_static::QsDamping::ND : quasi_static::QsDamping::OD;
+  o.checkpoint_ticks = output.checkpoint_ticks;
+  o.checkpoint_seconds = output.checkpoint_seconds;
   return o;
 }
 

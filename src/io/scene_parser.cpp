@@ -236,7 +236,8 @@ void parse_stability(const YAML::Node& node, dem::StabilityLimits& lim) {
 }
 
 void parse_output(const YAML::Node& node, OutputSpec& out) {
-  const Section s(node, "output", {"interval", "progress_seconds", "snapshot_interval"});
+  const Section s(node, "output",
+                  {"interval", "progress_seconds", "snapshot_interval", "checkpoint_ticks", "checkpoint_seconds"});
   out.interval = s.integer_or("interval", out.interval);
   require(out.interval > 0, s.path("interval"),
           "must be an integer > 0, got " + std::to_string(out.interval));
@@ -245,6 +246,12 @@ void parse_output(const YAML::Node& node, OutputSpec& out) {
   require(out.snapshot_interval >= 0 && out.snapshot_interval % out.interval == 0, s.path("snapshot_interval"),
           "must be 0 (no snapshots) or a multiple of output.interval (" + std::to_string(out.interval) +
               ") so that snapshots fall on samples, got " + std::to_string(out.snapshot_interval));
+  out.checkpoint_ticks = s.integer_or("checkpoint_ticks", out.checkpoint_ticks);
+  require(out.checkpoint_ticks >= 0, s.path("checkpoint_ticks"),
+          "must be an integer >= 0 (0: no tick trigger), got " + std::to_string(out.checkpoint_ticks));
+  out.checkpoint_seconds = s.number_or("checkpoint_seconds", out.checkpoint_seconds);
+  require(std::isfinite(out.checkpoint_seconds) && out.checkpoint_seconds >= 0, s.path("checkpoint_seconds"),
+          "must be >= 0 wall seconds (0: no time trigger), got " + num(out.checkpoint_seconds));
 }
 
 void parse_control(const YAML::Node& node, ControlSpec& c) {

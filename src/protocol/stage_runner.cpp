@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/protocol/run_checkpoint.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 
 namespace vt::protocol {
@@ -44,6 +45,8 @@ std::string validate(const RunOptions& o) {
   if (!(std::isfinite(o.servo.max_dimensionless_rate) && o.servo.max_dimensionless_rate > 0))
     return "servo.max_dimensionless_rate: must be finite and > 0";
   if (!(o.quasi_static_threshold > 0)) return "quasi_static_threshold: must be > 0";
+  if (o.checkpoint_ticks < 0) return "checkpoint_ticks: must be >= 0";
+  if (!(std::isfinite(o.checkpoint_seconds) && o.checkpoint_seconds >= 0)) return "checkpoint_seconds: must be >= 0";
   return {};
 }
 
@@ -59,15 +62,27 @@ std::string StageRunner::progress_line(const StageSpec& st, std::int64_t k, cons
   return buf;
 }
 
-bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& report) {
-  sim_.reset_strain_reference();
+bool StageRunner::checkpoint_due() {
+  if (options_.checkpoint_ticks <= 0 && options_.checkpoint_seconds <= 0) return false;
+  const double since = seconds_since(last_checkpoint_);
+  if (since < kCheckpointCostFactor * checkpoint_cost_) return false;  // the cost bound
+  return (options_.checkpoint_ticks > 0 && ticks_since_checkpoint_ >= options_.checkpoint_ticks) ||
+         (options_.checkpoint_seconds > 0 && since >= options_.checkpoint_seconds);
+}
+
+bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver& obs, RunReport& report,
+                            const RunCheckpoint* resume) {
+  if (!resume) sim_.reset_strain_reference();  // a resumed stage keeps its reference (in the state)
   const double t0 = sim_.time_scale().t0;
   const std::int64_t n = options_.control_interval;
   RunOptions options = options_;
   options.young_modulus = sim_.settings().material.young;
-  StageJudge judge(st, options, t0, specimen_at_start(sim_));
+  // a resumed stage: the specimen as it was at the stage start (the rate strategies' eq. 84)
+  const SpecimenAtStart specimen = resume ? resume->specimen : specimen_at_start(sim_);
+  StageJudge judge(st, options, t0, specimen);
   const StageBoundary& boundary = judge.boundary();
   std::unique_ptr<control::ServoStrategy> servo;
+  double servo_start = 0.0;
   double rates[3];
   for (int i = 0; i < 3; ++i) rates[i] = boundary.open_rate[i];
   rates[st.axial_axis] = boundary.servo[st.axial_axis] ? 0.0 : judge.first_axial_rate();
@@ -78,20 +93,29 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     servo = control::make_servo(options_.servo.strategy, p);
     servo->init({boundary.target[0], boundary.target[1], boundary.target[2]},
                 {boundary.servo[0], boundary.servo[1], boundary.servo[2]});
-    servo->start(sim_.time());
+    servo_start = resume ? resume->servo_start_time : sim_.time();
+    servo->start(servo_start);
+    if (resume) servo->restore_memory(resume->servo_memory);
     for (int i = 0; i < 3; ++i)
       if (boundary.servo[i]) rates[i] = 0.0;
   }
-  obs.on_stage_start(st, sim_);
-  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "[%s] rate strategy %s: first eps' = %.3g (eq. 84 at %.2g I_QS)", st.name.c_str(),
-                  judge.strategy_name(), judge.first_axial_rate() * t0, st.rate_spec.adaptive.target);
-    obs.on_progress(buf);
+  std::int64_t k = 0, k_progress = 0;
+  if (resume) {
+    judge.restore_state(resume->judge);
+    for (int i = 0; i < 3; ++i) rates[i] = resume->rates[i];
+    k = k_progress = resume->stage_steps;
+    obs.on_progress("[" + st.name + "] resumed from the checkpoint at stage step " + std::to_string(k));
+  } else {
+    obs.on_stage_start(st, sim_);
+    if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "[%s] rate strategy %s: first eps' = %.3g (eq. 84 at %.2g I_QS)", st.name.c_str(),
+                    judge.strategy_name(), judge.first_axial_rate() * t0, st.rate_spec.adaptive.target);
+      obs.on_progress(buf);
+    }
   }
   const auto t_start = Clock::now();
   auto t_progress = t_start;
-  std::int64_t k = 0, k_progress = 0;
   dem::Measures last{};
   auto unstable = [&]() {
     judge.fail(Verdict::Unstable, sim_.failure(), "unstable: " + sim_.failure());
@@ -116,6 +140,7 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
     }
     k += n;
     ++report.ticks;
+    ++ticks_since_checkpoint_;
     const dem::Mat3 stress = sim_.current_stress();
     if (servo) {
       control::ServoInput in;
@@ -157,6 +182,26 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
       break;
     }
     if (!boundary.servo[st.axial_axis]) rates[st.axial_axis] = d.axial_rate;
+    if (sample && checkpoint_due()) {  // everything the next tick depends on
+      RunCheckpoint c;
+      c.stage_index = index;
+      c.stage_steps = k;
+      for (int i = 0; i < 3; ++i) c.rates[i] = rates[i];
+      c.finished = report.stages;
+      c.steps = report.steps;
+      c.ticks = report.ticks;
+      c.wall_seconds = wall_before_ + seconds_since(run_start_);
+      c.judge = judge.save_state();
+      c.specimen = specimen;
+      c.servo = servo != nullptr;
+      if (servo) c.servo_memory = servo->memory();
+      c.servo_start_time = servo_start;
+      const auto t = Clock::now();
+      obs.on_checkpoint(c, sim_);
+      last_checkpoint_ = Clock::now();
+      checkpoint_cost_ = std::chrono::duration<double>(last_checkpoint_ - t).count();
+      ticks_since_checkpoint_ = 0;
+    }
     if (options_.progress_seconds > 0 && seconds_since(t_progress) >= options_.progress_seconds &&
         last.step > 0) {
       const double rate = static_cast<double>(k - k_progress) / seconds_since(t_progress);
@@ -178,14 +223,30 @@ bool StageRunner::run_stage(const StageSpec& st, RunObserver& obs, RunReport& re
   return go_on;
 }
 
-RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& observer) {
+RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& observer, const RunCheckpoint* resume) {
   const std::string bad = validate(options_);
   if (!bad.empty()) throw std::invalid_argument("RunOptions: " + bad);
   RunReport report;
-  const auto t0 = Clock::now();
-  for (const StageSpec& st : stages)
-    if (!run_stage(st, observer, report)) break;
-  report.wall_seconds = seconds_since(t0);
+  std::size_t first = 0;
+  wall_before_ = 0.0;
+  if (resume) {
+    if (resume->stage_index >= stages.size())
+      throw std::invalid_argument("checkpoint: stage " + std::to_string(resume->stage_index) + " of a run with " +
+                                  std::to_string(stages.size()) + " stages");
+    first = resume->stage_index;
+    report.stages = resume->finished;
+    report.steps = resume->steps;
+    report.ticks = resume->ticks;
+    wall_before_ = resume->wall_seconds;
+    // The checkpoint was taken on a sample tick: its state is the last good one.
+    if (options_.keep_last_good) report.last_good = sim_.state();
+  }
+  run_start_ = last_checkpoint_ = Clock::now();
+  ticks_since_checkpoint_ = 0;
+  checkpoint_cost_ = 0.0;
+  for (std::size_t i = first; i < stages.size(); ++i)
+    if (!run_stage(stages[i], i, observer, report, i == first ? resume : nullptr)) break;
+  report.wall_seconds = wall_before_ + seconds_since(run_start_);
   return report;
 }
 

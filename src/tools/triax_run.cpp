@@ -1,5 +1,14 @@
 // triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--specimen DIR] [--quiet] [--check]
 //                  [--threads N|auto]
+// triax_run --resume OUTDIR_OR_RESULTS [--save-sample ...] [--specimen ...] [--quiet] [--threads ...]
+//
+// Checkpoints: during the run, `<out>.checkpoint.h5` (io/checkpoint_file.h)
+// is rewritten atomically on the first sample after output.checkpoint_ticks
+// control ticks or output.checkpoint_seconds (default 60) wall seconds, the
+// results file flushed just before it; it is removed when the run ends.
+// --resume continues a killed run from it (the scene it names must be
+// unchanged) into the same results file: the finished run equals the
+// uninterrupted one bit for bit (samples, summary; not the wall time).
 //
 // --check only reads and validates the file, the run limits included
 // (io/run_limits.h; without the specimen, so rates given in 1/s, which need
@@ -22,6 +31,7 @@
 // 6 an output file could not be written (full disk, permissions: one line
 // naming the file; the files written before, e.g. the last flush of the
 // results, are intact and valid).
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <omp.h>
@@ -32,8 +42,14 @@
 #include <memory>
 #include <vector>
 #include <exception>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
 #include <string>
 
+#include "virtual_triaxial/io/checkpoint_file.h"
+#include "virtual_triaxial/io/checkpoint_recorder.h"
 #include "virtual_triaxial/io/hdf5_atomic_file.h"
 #include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/io/scene_builder.h"
@@ -47,11 +63,12 @@
 #include "virtual_triaxial/protocol/run_observers.h"
 
 extern char** environ;
+namespace fs = std::filesystem;
 
 namespace {
 
 struct Args {
-  std::string scene, out = "results.h5", save_sample, specimen;
+  std::string scene, out = "results.h5", save_sample, specimen, resume;
   bool quiet = false;
   bool check = false;
   int threads = 0;  ///< 0 = auto
@@ -59,7 +76,8 @@ struct Args {
 
 int usage(const char* msg) {
   std::fprintf(stderr, "triax_run: %s\nusage: triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] "
-                       "[--specimen DIR] [--quiet] [--check] [--threads N|auto]\n", msg);
+                       "[--specimen DIR] [--quiet] [--check] [--threads N|auto]\n       triax_run --resume OUTDIR_OR_RESULTS "
+                       "[--save-sample final.h5] [--specimen DIR] [--quiet] [--threads N|auto]\n", msg);
   return 2;
 }
 
@@ -79,6 +97,30 @@ void render_sections(const std::string& dir, bool quiet) {
                  script.c_str(), dir.c_str(), dir.c_str());
 }
 
+/// The whole file ("" when it cannot be read).
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Test hook: VT_TEST_KILL_AT_SAMPLE=S kills the process (SIGKILL, as
+/// kill -9 would) when its S-th sample is recorded, so the fault tests kill
+/// a run at a known point.
+class KillHook : public vt::protocol::RunObserver {
+ public:
+  KillHook() {
+    if (const char* v = std::getenv("VT_TEST_KILL_AT_SAMPLE")) at_ = std::atol(v);
+  }
+  void on_sample(const vt::protocol::StageSpec&, const vt::dem::Measures&) override {
+    if (at_ > 0 && ++seen_ == at_) ::raise(SIGKILL);
+  }
+
+ private:
+  long at_ = 0, seen_ = 0;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -87,6 +129,7 @@ int main(int argc, char** argv) {
     const std::string s = argv[i];
     if ((s == "--out" || s == "--save-sample") && i + 1 < argc) (s == "--out" ? a.out : a.save_sample) = argv[++i];
     else if (s == "--specimen" && i + 1 < argc) a.specimen = argv[++i];
+    else if (s == "--resume" && i + 1 < argc) a.resume = argv[++i];
     else if (s == "--quiet") a.quiet = true;
     else if (s == "--check") a.check = true;
     else if (s == "--threads" && i + 1 < argc) {
@@ -101,6 +144,31 @@ int main(int argc, char** argv) {
     else if (!s.empty() && s[0] == '-') return usage(("unknown option " + s).c_str());
     else if (a.scene.empty()) a.scene = s;
     else return usage(("unexpected argument " + s).c_str());
+  }
+  // --resume: the results file (in OUTDIR: results.h5), its checkpoint and the scene it names.
+  std::optional<vt::io::CheckpointFile> resume;
+  if (!a.resume.empty()) {
+    if (!a.scene.empty()) return usage("--resume takes no SCENE.yaml: the checkpoint names it");
+    if (a.check) return usage("--check and --resume exclude each other");
+    a.out = fs::is_directory(a.resume) ? (fs::path(a.resume) / "results.h5").string() : a.resume;
+    const std::string cp = vt::io::checkpoint_path(a.out);
+    if (!fs::exists(cp)) {
+      std::fprintf(stderr, "triax_run: error: --resume: no checkpoint %s (the run finished, or stopped before its "
+                           "first checkpoint: run it again)\n", cp.c_str());
+      return 2;
+    }
+    try {
+      resume = vt::io::read_checkpoint(cp);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "triax_run: error: --resume: %s\n", e.what());
+      return 2;
+    }
+    a.scene = resume->scene_path;
+    if (read_text(a.scene) != resume->scene_text) {
+      std::fprintf(stderr, "triax_run: error: --resume: %s: changed since the checkpoint (the resumed test would "
+                           "not be the one that was started)\n", a.scene.c_str());
+      return 2;
+    }
   }
   if (a.scene.empty()) return usage("missing SCENE.yaml");
 
@@ -128,7 +196,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "triax_run: warning: time_step_ratio = %g >= 1: the time step exceeds the critical "
                          "estimate T0 (eq. 91-92); expect an unstable run\n", scene.time_step_ratio);
   try {
-    vt::dem::Simulation sim = vt::io::build_simulation(scene);
+    vt::dem::Simulation sim = resume ? vt::dem::Simulation(resume->state) : vt::io::build_simulation(scene);
     // The rate limits need T0, known once the specimen is built.
     if (const std::string bad = vt::io::check_rate_limits(scene, sim.time_scale().t0); !bad.empty()) {
       std::fprintf(stderr, "triax_run: error: %s\n", bad.c_str());
@@ -139,6 +207,7 @@ int main(int argc, char** argv) {
     // The last good state of a run that fails before its first sample.
     const vt::dem::SimulationState initial = sim.state();
     vt::io::ResultsRecorder recorder(a.out, a.quiet);
+    if (resume) recorder.resume(static_cast<std::size_t>(resume->results_rows));
     std::fprintf(stderr, "triax_run: %zu particles, L0 = %.4g m, T0 = %.4g s, dt = %.4g s (c_t = %g), damping %s xi = %g\n",
                  sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0, sim.dt(),
                  sim.time_scale().ct, vt::dem::to_string(scene.damping.model()), scene.damping.ratio());
@@ -147,6 +216,12 @@ int main(int argc, char** argv) {
     vt::protocol::StageRunner runner(sim, opt);
     vt::protocol::RunObservers observers;
     observers.add(recorder);
+    vt::io::CheckpointRecorder checkpoints(vt::io::checkpoint_path(a.out), recorder,
+                                           fs::absolute(a.scene).lexically_normal().string(), read_text(a.scene),
+                                           a.quiet);
+    observers.add(checkpoints);
+    KillHook kill_hook;  // the fault-injection tests' kill -9 (VT_TEST_KILL_AT_SAMPLE)
+    observers.add(kill_hook);
     std::unique_ptr<vt::io::VtkSnapshotSeries> series;
     std::unique_ptr<vt::io::SnapshotRecorder> snapshots;
     if (!a.specimen.empty()) {
@@ -154,8 +229,10 @@ int main(int argc, char** argv) {
       snapshots = std::make_unique<vt::io::SnapshotRecorder>(sim, *series, scene.output.snapshot_interval);
       observers.add(*snapshots);
     }
-    const vt::protocol::RunReport report = runner.run(scene.stages, observers);
+    const vt::protocol::RunReport report = runner.run(scene.stages, observers, resume ? &resume->run : nullptr);
     recorder.finish(report, sim);
+    std::error_code ec;  // finished: nothing to resume (a full disk keeps the checkpoint: exit 6 below)
+    fs::remove(checkpoints.path(), ec);
     if (const auto& g = sim.thread_governor(); g && g->max_threads() > 1)
       std::fprintf(stderr, "triax_run: threads chosen at run time: %lld steps on 1, %lld on %d\n",
                    static_cast<long long>(g->steps_one()), static_cast<long long>(g->steps_max()), g->max_threads());

@@ -30,6 +30,9 @@ class AdaptiveRate : public RateStrategy {
   void start(double rate0) override;
   double update(const RateInput& in) override;
   double rate() const override { return rate_; }
+  /// The rate, the smoothed index and whether it has one (3 numbers).
+  std::vector<double> memory() const override { return {rate_, smoothed_, have_index_ ? 1.0 : 0.0}; }
+  void restore_memory(const std::vector<double>& m) override;
   /// The smoothed index S [1].
   double smoothed_index() const { return smoothed_; }
 

@@ -82,6 +82,10 @@ class PidServo : public ServoStrategy {
   const ServoParameters& parameters() const override { return p_; }
   void set_parameters(const ServoParameters& p) override;
 
+  /// S, e_{n-1}, rate_{n-1} per axis and whether e_{n-1} exists (10 numbers).
+  std::vector<double> memory() const override;
+  void restore_memory(const std::vector<double>& m) override;
+
   /// Integral term S per axis [Pa] (0 on uncontrolled axes).
   const dem::Vec3& integral_term() const { return integral_; }
 

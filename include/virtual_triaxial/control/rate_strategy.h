@@ -20,6 +20,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "virtual_triaxial/control/adaptive_rate_parameters.h"
 
@@ -41,6 +42,11 @@ class RateStrategy {
   virtual double update(const RateInput& in) = 0;
   /// The rate last returned (rate0 before any update) [1/s].
   virtual double rate() const = 0;
+  /// Its memory between ticks as numbers, restored bit for bit after
+  /// start() by restore_memory() (a checkpointed run, protocol/run_checkpoint.h);
+  /// restore_memory() throws std::invalid_argument on a wrong length.
+  virtual std::vector<double> memory() const = 0;
+  virtual void restore_memory(const std::vector<double>& m) = 0;
 };
 
 /// The stage's own rate, unchanged (also `predicted`: the eq. 85 rate, held).
@@ -52,6 +58,9 @@ class FixedRate : public RateStrategy {
   void start(double rate0) override;
   double update(const RateInput&) override;
   double rate() const override { return rate_; }
+  /// The rate (1 number).
+  std::vector<double> memory() const override { return {rate_}; }
+  void restore_memory(const std::vector<double>& m) override;
 
  private:
   const char* name_;

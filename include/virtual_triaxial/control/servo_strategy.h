@@ -20,6 +20,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "virtual_triaxial/dem/vec3.h"
 
@@ -119,6 +120,15 @@ class ServoStrategy {
   /// std::invalid_argument naming the field (validate_servo_parameters())
   /// and then keeps the old tuning.
   virtual void set_parameters(const ServoParameters& p) = 0;
+
+  /// The controller's memory between updates (e.g. the PID's integral,
+  /// previous error and rate), as numbers restored bit for bit by
+  /// restore_memory() after init() and start(): a checkpointed run resumes
+  /// with the servo it had (protocol/run_checkpoint.h). Empty for a
+  /// stateless law. restore_memory() throws std::invalid_argument on a
+  /// vector of the wrong length.
+  virtual std::vector<double> memory() const { return {}; }
+  virtual void restore_memory(const std::vector<double>& m);
 
   /// Relative tolerance check: |sigma_i - target_i| <= tol * |target_i| on
   /// every controlled axis (true when no axis is controlled; false for a NaN

@@ -48,6 +48,9 @@ class ResultsWriter {
   ResultsWriter& operator=(const ResultsWriter&) = delete;
 
   void append(const dem::Measures& m);
+  /// Replaces the series in memory (a resumed run: the rows up to its
+  /// checkpoint, read back with read_results_series()).
+  void restore_series(std::vector<dem::Measures> rows);
   /// Replaces the summary. A key may not be both a number and a text.
   void set_summary(const std::map<std::string, double>& numbers,
                    const std::map<std::string, std::string>& texts);

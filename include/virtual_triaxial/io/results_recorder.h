@@ -17,7 +17,18 @@ namespace vt::io {
 
 class ResultsRecorder : public protocol::RunObserver {
  public:
+  /// Until finish(), the summary on disk says verdict `interrupted` (a
+  /// killed run's file says so).
   ResultsRecorder(const std::string& path, bool quiet, double flush_seconds = 20.0);
+  /// A resumed run: keeps the first `rows` samples of the file on disk (a
+  /// later flush of the killed run may have added more); throws
+  /// std::runtime_error naming the file when it has fewer.
+  void resume(std::size_t rows);
+  /// Samples recorded so far.
+  std::size_t rows() const { return writer_.size(); }
+  const std::string& path() const { return writer_.path(); }
+  /// Flush now, the summary saying `interrupted` with `note`.
+  void flush_partial(const std::string& note);
   void on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) override;
   void on_sample(const protocol::StageSpec& st, const dem::Measures& m) override;
   void on_progress(const std::string& line) override;

@@ -51,6 +51,7 @@
 #include <string>
 
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/io/hdf5_group.h"
 
 namespace vt::io {
 
@@ -74,5 +75,10 @@ void write_sample(const std::string& path, const dem::SimulationState& s, const 
 
 /// Read and validate; throws std::runtime_error naming the path and dataset.
 dem::SimulationState read_sample(const std::string& path, SampleMetadata* meta = nullptr);
+
+/// The same layout into / from an open group (the root of a file built
+/// with h5::AtomicFile, e.g. a checkpoint, io/checkpoint_file.h).
+void write_sample_into(const h5::Group& root, const dem::SimulationState& s, const SampleMetadata& meta);
+dem::SimulationState read_sample_from(const h5::Group& root, SampleMetadata* meta = nullptr);
 
 }  // namespace vt::io

@@ -57,6 +57,11 @@ struct OutputSpec {
   /// Steps between VTK snapshots of the specimen (io/vtk_snapshot_writer.h),
   /// counted from each stage start; 0 = none (default). A multiple of interval.
   std::int64_t snapshot_interval = 0;
+  /// Checkpoints inside a stage (protocol/run_checkpoint.h; triax_run
+  /// --resume): on the first sample after checkpoint_ticks control ticks or
+  /// checkpoint_seconds wall seconds (0 = that trigger off).
+  std::int64_t checkpoint_ticks = 0;
+  double checkpoint_seconds = 60.0;
 };
 
 /// `control:` -- control ticks, the servo of servo stages, the summary.

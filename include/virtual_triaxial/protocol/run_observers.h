@@ -27,6 +27,9 @@ class RunObservers : public RunObserver {
   void on_stage_end(const StageOutcome& out) override {
     for (RunObserver& o : list_) o.on_stage_end(out);
   }
+  void on_checkpoint(const RunCheckpoint& c, const dem::Simulation& sim) override {
+    for (RunObserver& o : list_) o.on_checkpoint(c, sim);
+  }
 
  private:
   std::vector<std::reference_wrapper<RunObserver>> list_;

@@ -45,6 +45,7 @@ struct ShearSummary {
 /// words for the summary (`phi_peak_basis`): the strategy, the eps' range, and
 /// the mean I_mom to the peak against I_QS (chapter 6's criterion). "" without data.
 std::string phi_peak_basis(const ShearSummary& s);
+struct ShearAccumulators;  // stage_judge_state.h
 
 class ShearSummaryBuilder {
  public:
@@ -52,6 +53,9 @@ class ShearSummaryBuilder {
   /// A recorded sample; `weight` the strain it covers relative to the others (see above).
   void add(const dem::Measures& m, double weight = 1.0);
   ShearSummary summary() const;
+  /// Its sums and peak, for a checkpoint (stage_judge_state.h), and back.
+  ShearAccumulators accumulators() const;
+  void restore(const ShearAccumulators& a);
 
  private:
   int axis_;

@@ -30,6 +30,7 @@
 #include "virtual_triaxial/dem/measures.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/protocol/shear_summary.h"
+#include "virtual_triaxial/protocol/stage_judge_state.h"
 #include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/protocol/stage_spec.h"
@@ -101,6 +102,12 @@ class StageJudge {
   /// stage ended the run, and the shear summary of a shear stage. Returns
   /// true when the run goes on to the next stage.
   bool finish(std::int64_t steps, RunReport& report);
+
+  /// What the judge remembers between ticks (stage_judge_state.h; defined in
+  /// stage_judge_state.cpp), for a checkpoint, and back into a judge built
+  /// for the same stage. Not while decide() or record() runs.
+  StageJudgeState save_state() const;
+  void restore_state(const StageJudgeState& s);
 
  private:
   StageSpec stage_;

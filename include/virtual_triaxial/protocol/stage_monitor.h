@@ -46,6 +46,8 @@ class StageMonitor {
   std::string check(const TickSample& s);
   /// Largest q seen so far [Pa].
   double q_peak() const { return q_peak_; }
+  /// A resumed run's largest q so far [Pa] (checkpoint, stage_judge_state.h).
+  void restore_q_peak(double q) { q_peak_ = q; }
 
  private:
   StageSpec stage_;

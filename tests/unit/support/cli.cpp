@@ -20,10 +20,12 @@ std::string slurp(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
-CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& scratch) {
+CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& scratch,
+                   const std::string& env) {
   const auto exe = std::filesystem::path(VT_BINARY_DIR) / "devel/lib/virtual_triaxial" / program;
   const auto o = scratch / "stdout.txt", e = scratch / "stderr.txt";
-  const std::string cmd = exe.string() + " " + args + " >" + o.string() + " 2>" + e.string();
+  const std::string cmd = (env.empty() ? "" : env + " ") + "exec " + exe.string() + " " + args + " >" + o.string() +
+                          " 2>" + e.string();
   const int st = std::system(cmd.c_str());
   return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, slurp(o), slurp(e)};
 }

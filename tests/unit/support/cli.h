@@ -15,6 +15,8 @@ struct CliRun {
 std::filesystem::path scratch_dir(const std::string& tag);
 std::string slurp(const std::filesystem::path& p);
 /// Run build/devel/lib/virtual_triaxial/<program> with the given arguments.
-CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& scratch);
+/// `env`: VAR=value words put before the program (e.g. a test hook).
+CliRun run_program(const std::string& program, const std::string& args, const std::filesystem::path& scratch,
+                   const std::string& env = "");
 
 }  // namespace vt::test

@@ -1,0 +1,33 @@
+// A run's checkpoint inside a stage (ROS-free): with the simulation state
+// (dem::SimulationState) it is everything that affects the later steps, so
+// StageRunner::run(..., &checkpoint) continues a killed run and finishes it
+// exactly as the uninterrupted run (same samples, same summary, bit for bit).
+// Taken on a sample tick, after the sample is recorded, so the state is also
+// the run's last good state there. io/checkpoint_file.h stores it.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "virtual_triaxial/protocol/stage_judge.h"
+#include "virtual_triaxial/protocol/stage_judge_state.h"
+#include "virtual_triaxial/protocol/stage_runner.h"
+
+namespace vt::protocol {
+
+struct RunCheckpoint {
+  std::size_t stage_index = 0;        ///< the stage running
+  std::int64_t stage_steps = 0;       ///< DEM steps of that stage so far
+  double rates[3] = {0, 0, 0};        ///< log-strain rates of the next tick [1/s], compression positive
+  std::vector<StageOutcome> finished; ///< the stages before it
+  std::int64_t steps = 0;             ///< RunReport::steps (finished stages)
+  std::int64_t ticks = 0;             ///< RunReport::ticks (all ticks so far)
+  double wall_seconds = 0;            ///< wall time of the run so far [s] (informative)
+  StageJudgeState judge;
+  SpecimenAtStart specimen;           ///< the stage's specimen at its start (the rate strategies' eq. 84)
+  bool servo = false;                 ///< the stage runs a servo
+  std::vector<double> servo_memory;   ///< control::ServoStrategy::memory()
+  double servo_start_time = 0;        ///< simulation time the servo started at [s]
+};
+
+}  // namespace vt::protocol
