@@ -27,6 +27,7 @@ void ResultsRecorder::flush_partial(const std::string& note) {
   writer_.set_summary({}, {{"verdict", "interrupted"}, {"failure", note}});
   writer_.flush();
   last_flush_ = std::chrono::steady_clock::now();
+  if (after_flush_) after_flush_(writer_.size(), stage_);
 }
 
 void ResultsRecorder::on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) {
@@ -42,12 +43,15 @@ void ResultsRecorder::on_stage_start(const protocol::StageSpec& st, const dem::S
                protocol::to_string(st.type), rate, rate * sim.time_scale().t0);
 }
 
-void ResultsRecorder::on_sample(const protocol::StageSpec&, const dem::Measures& m) {
+void ResultsRecorder::on_sample(const protocol::StageSpec& st, const dem::Measures& m) {
   writer_.append(m);
   const auto now = std::chrono::steady_clock::now();
-  if (std::chrono::duration<double>(now - last_flush_).count() >= flush_seconds_) {
+  const bool new_stage = st.name != stage_;
+  stage_ = st.name;
+  if (new_stage || std::chrono::duration<double>(now - last_flush_).count() >= flush_seconds_) {
     writer_.flush();
     last_flush_ = now;
+    if (after_flush_) after_flush_(writer_.size(), stage_);
   }
 }
 

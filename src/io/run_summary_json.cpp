@@ -81,4 +81,12 @@ std::string run_summary_json(const protocol::RunReport& r, const RunContext& ctx
   return o.str();
 }
 
+std::string partial_summary_json(std::size_t samples, const std::string& stage, const std::string& results) {
+  return "{\"verdict\":\"interrupted\",\"failure\":" +
+         quoted("the test stopped after its last flush: " + std::to_string(samples) + " samples, stage '" + stage +
+                "', in " + results) +
+         ",\"partial\":true,\"samples\":" + std::to_string(samples) + ",\"stage\":" + quoted(stage) +
+         ",\"results\":" + quoted(results) + "}";
+}
+
 }  // namespace vt::io

@@ -290,6 +290,11 @@ void TestProtocolNode::execute(GoalHandle gh) {
   protocol::RunReport report;
   try {
     io::ResultsRecorder recorder(result.results_file, true);
+    // summary.json as the test goes (verdict `interrupted`), replaced at the end
+    recorder.set_after_flush([&result](std::size_t samples, const std::string& stage) {
+      io::write_text_atomic(result.summary_file,
+                            io::partial_summary_json(samples, stage, result.results_file) + "\n");
+    });
     report = session.run(scene, path, recorder, links);
     recorder.finish(report, session.context());
   } catch (const std::exception& e) {

@@ -10,7 +10,8 @@
 //     processes is visible in the test's own namespace;
 //   - kill -9 of the rig process (the nodelet manager rig_manager): within
 //     seconds summary.json says "interrupted" and names rig_manager; the
-//     script exits 3;
+//     script exits 3; results.h5 and the partial summary of the last flush
+//     (the shear stage's first sample) are kept;
 //   - the rig as three processes (nodelets:=false), kill -9 of the servo: the
 //     protocol node ends the test with a verdict naming the servo (not a
 //     teardown) within seconds, the script exits non-zero;
@@ -22,6 +23,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -132,12 +134,18 @@ class ScriptRun {
     return false;
   }
   /// Seconds until the script exits, or -1 after `limit` seconds; also
-  /// notes when summary.json (the verdict) appeared (verdict_seconds()).
+  /// notes when summary.json got its verdict (verdict_seconds()): while the
+  /// test runs it is the protocol node's partial summary, written at every
+  /// results flush in compact JSON with "partial":true; the verdict replaces
+  /// it (the protocol node's final summary has no "partial", the script's
+  /// merge after a death writes Python's "partial": true).
   double wait_exit(double limit) {
     const auto t0 = Clock::now();
     verdict_seconds_ = -1;
     while (seconds_since(t0) < limit) {
-      if (verdict_seconds_ < 0 && fs::exists(out_ / "summary.json")) verdict_seconds_ = seconds_since(t0);
+      if (verdict_seconds_ < 0 && fs::exists(out_ / "summary.json") &&
+          slurp(out_ / "summary.json").find("\"partial\":true") == std::string::npos)
+        verdict_seconds_ = seconds_since(t0);
       if (exited()) return seconds_since(t0);
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
@@ -257,6 +265,13 @@ TEST(RigFaults, KilledRigProcessEndsTheScriptWithAVerdictNamingIt) {
   EXPECT_NE(summary.find("\"verdict\": \"interrupted\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("rig_manager (pid " + std::to_string(rig) + ", exit code -9)"), std::string::npos)
       << summary;
+  // What was flushed before the kill (the shear's first sample at least):
+  // results.h5 readable, the summary keeps the partial numbers.
+  EXPECT_NE(summary.find("\"partial\": true"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"stage\": \"shear\""), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(r.out() / "results.h5"));
+  EXPECT_EQ(std::system(("h5dump -H '" + (r.out() / "results.h5").string() + "' > /dev/null 2>&1").c_str()), 0)
+      << "results.h5 of the killed rig is not a valid HDF5 file";
   EXPECT_TRUE(r.left_behind().empty()) << "processes left behind";
 }
 

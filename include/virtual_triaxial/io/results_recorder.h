@@ -1,10 +1,12 @@
 // Connects a StageRunner to the HDF5 results file and the terminal: every
-// sample is appended to the results time series (flushed to disk at least
-// every `flush_seconds`, atomically, so a killed run keeps its history);
-// progress lines go to stderr.
+// sample is appended to the results time series, flushed to disk (atomically,
+// summary verdict `interrupted` until finish()) on the first sample of every
+// stage and then at least every `flush_seconds`, so a killed run keeps its
+// history up to one interval; progress lines go to stderr.
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "virtual_triaxial/dem/simulation.h"
@@ -29,6 +31,11 @@ class ResultsRecorder : public protocol::RunObserver {
   const std::string& path() const { return writer_.path(); }
   /// Flush now, the summary saying `interrupted` with `note`.
   void flush_partial(const std::string& note);
+  /// Called after every flush of a running test with the samples and the
+  /// stage (the rig writes its partial summary.json there).
+  void set_after_flush(std::function<void(std::size_t samples, const std::string& stage)> f) {
+    after_flush_ = std::move(f);
+  }
   void on_stage_start(const protocol::StageSpec& st, const dem::Simulation& sim) override;
   void on_sample(const protocol::StageSpec& st, const dem::Measures& m) override;
   void on_progress(const std::string& line) override;
@@ -44,6 +51,8 @@ class ResultsRecorder : public protocol::RunObserver {
   bool quiet_;
   double flush_seconds_;
   std::chrono::steady_clock::time_point last_flush_;
+  std::string stage_;  ///< stage of the last sample
+  std::function<void(std::size_t, const std::string&)> after_flush_;
 };
 
 }  // namespace vt::io

@@ -26,6 +26,10 @@ RunContext run_context(const dem::Simulation& sim);
 
 std::string run_summary_json(const protocol::RunReport& report, const RunContext& ctx,
                              const std::string& results_path);
+/// The summary of a test still running, rewritten at every flush of its
+/// results (verdict `interrupted`, `partial` true, the samples flushed and
+/// the stage): what a kill leaves (the rig's summary.json).
+std::string partial_summary_json(std::size_t samples, const std::string& stage, const std::string& results);
 inline std::string run_summary_json(const protocol::RunReport& report, const dem::Simulation& sim,
                                     const std::string& results_path) {
   return run_summary_json(report, run_context(sim), results_path);
