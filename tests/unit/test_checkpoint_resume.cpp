@@ -4,8 +4,9 @@
 // last checkpoint finishes equal to the uninterrupted run, bit for bit: every
 // sample of the results series, every summary attribute and the JSON summary
 // (except the wall time). Killed in the shear stage (proportional servo
-// consolidation before it) and in a PID-servo consolidation (the servo's
-// integral and previous error, then a stage change after the resume). The
+// consolidation before it), in a PID-servo consolidation (the servo's
+// integral and previous error, then a stage change after the resume) and in
+// a shear under the adaptive rate strategy (its smoothed index and rate). The
 // killed run's results file is valid and says `interrupted`; a changed
 // protocol or a missing checkpoint is refused naming it.
 #include <gtest/gtest.h>
@@ -126,6 +127,15 @@ TEST(CheckpointResume, KilledInAPidConsolidationResumesWithTheServosMemory) {
                                       {"confining_pressure: 100.0e3", "confining_pressure: 130.0e3"},
                                       {"steps: 2000", "steps: 4000"}});
   expect_resume_equals_uninterrupted(p, "pid", 5, "consolidation");
+}
+
+TEST(CheckpointResume, KilledUnderTheAdaptiveRateResumesWithTheStrategysMemory) {
+  // the shear under the adaptive rate strategy (its smoothed I_mom and rate,
+  // the stage's specimen at its start for eq. 84), killed in the shear
+  const fs::path p = protocol("adaptive", {{"strain_rate_dimensionless: 1.0e-5",
+                                            "strain_rate_dimensionless: 1.0e-5\n    rate: {strategy: adaptive, target: 0.7}"},
+                                           {"stop: {axial_strain: 0.01, softening: 0.3}", "stop: {axial_strain: 0.0004}"}});
+  expect_resume_equals_uninterrupted(p, "adaptive", 60, "shear");
 }
 
 TEST(CheckpointResume, AChangedProtocolOrNoCheckpointIsRefused) {
