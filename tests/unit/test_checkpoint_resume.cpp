@@ -133,9 +133,10 @@ TEST(CheckpointResume, KilledUnderTheAdaptiveRateResumesWithTheStrategysMemory) 
   // the shear under the adaptive rate strategy (its smoothed I_mom and rate,
   // the stage's specimen at its start for eq. 84), killed in the shear
   const fs::path p = protocol("adaptive", {{"strain_rate_dimensionless: 1.0e-5",
-                                            "strain_rate_dimensionless: 1.0e-5\n    rate: {strategy: adaptive, target: 0.7}"},
-                                           {"stop: {axial_strain: 0.01, softening: 0.3}", "stop: {axial_strain: 0.0004}"}});
-  expect_resume_equals_uninterrupted(p, "adaptive", 60, "shear");
+                                            "rate: {strategy: adaptive, target: 0.7}"},
+                                           {"stop: {axial_strain: 0.01, softening: 0.3}", "stop: {axial_strain: 0.00015}"}});
+  // 50 000 shear steps, 500 samples (the rate falls to its floor 1e-9 at the start): killed at sample 200
+  expect_resume_equals_uninterrupted(p, "adaptive", 200, "shear");
 }
 
 TEST(CheckpointResume, AChangedProtocolOrNoCheckpointIsRefused) {

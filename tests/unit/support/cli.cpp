@@ -6,12 +6,31 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <system_error>
+#include <vector>
 
 namespace vt::test {
 
+namespace {
+/// The scratch directories of this test program, removed when it exits
+/// (kept with VT_KEEP_SCRATCH=1 to look at a failure).
+struct ScratchDirs {
+  std::vector<std::filesystem::path> dirs;
+  ~ScratchDirs() {
+    if (std::getenv("VT_KEEP_SCRATCH") != nullptr) return;
+    for (const auto& d : dirs) {
+      std::error_code ec;
+      std::filesystem::remove_all(d, ec);
+    }
+  }
+};
+}  // namespace
+
 std::filesystem::path scratch_dir(const std::string& tag) {
+  static ScratchDirs made;
   const auto p = std::filesystem::temp_directory_path() / ("vt_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(p);
+  made.dirs.push_back(p);
   return p;
 }
 
