@@ -2,12 +2,25 @@
 # The main job: a complete virtual triaxial test on the ROS rig.
 #
 #   launch_equiv_scripts/run_triaxial.sh [PROTOCOL.yaml]
+#   launch_equiv_scripts/run_triaxial.sh --resume OUTDIR   continue a killed test
 #   OUT=output/mine SERVO_NODE=py_servo_controller.py launch_equiv_scripts/run_triaxial.sh
 #   RECORD=0 ...   no rosbag recording (and no bag plots), e.g. to time the rig alone
 #   RIG_ARGS="nodelets:=false ..."   extra protocol_rig.launch arguments
 #   VT_NETNS=0 ... do not run the rig in its own network namespace
 #   SNAPSHOTS=0 ...   no specimen snapshots (and no specimen picture)
 #   VT_SKIP_BUILD=1 ...  skip the package check and the build (already done)
+#   PLOTS=0 ...    no plots and no specimen picture at the end (the data only)
+#
+# --resume OUTDIR: the test in OUTDIR was killed (kill -9, power loss): go on
+# from its last checkpoint inside a stage (OUTDIR/results.h5.checkpoint.h5,
+# written every output.checkpoint_seconds (default 60) wall seconds or
+# output.checkpoint_ticks ticks) with the protocol it names (unchanged, else
+# refused), into the same results.h5 (samples after the checkpoint are
+# dropped and computed again). The killed run's bags (rig_*.bag.active) are
+# reindexed (rosbag reindex) and kept as rig_*.bag; the resumed run records
+# into rig_rN_*.bag, its ticks continuing from the checkpoint's tick + 1.
+# The finished test equals an uninterrupted one bit for bit (results series,
+# summary numbers, the ticks' messages).
 #
 # Default protocol: config/protocols/drained_100kPa_adaptive.yaml (the
 # shipped dense 1000-sphere sample, servo consolidation at 100 kPa, a
@@ -75,12 +88,45 @@ fi
 export VT_IN_NETNS="${VT_IN_NETNS:-0}"
 PATH="/usr/bin:${PATH}"
 
-protocol="$(realpath "${1:-config/protocols/drained_100kPa_adaptive.yaml}")"
-[[ -f "${protocol}" ]] || { echo "[rig] ERROR: protocol: no such file: ${protocol}" >&2; exit 2; }
-out="$(mkdir -p "${OUT:-output/default}" && cd "${OUT:-output/default}" && pwd)"
+checkpoint=""
+if [[ "${1:-}" == --resume ]]; then
+  [[ -d "${2:-}" ]] || { echo "[rig] ERROR: --resume: no such folder: '${2:-}' (give the killed test's output folder)" >&2; exit 2; }
+  out="$(cd "$2" && pwd)"
+  checkpoint="${out}/results.h5.checkpoint.h5"
+  [[ -f "${checkpoint}" ]] || { echo "[rig] ERROR: --resume: no checkpoint ${checkpoint} (the test finished, or it was killed before its first checkpoint: run it again)" >&2; exit 2; }
+  protocol="$(/usr/bin/python3 -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r")["checkpoint"].attrs["scene_path"])' "${checkpoint}" 2>/dev/null)" ||
+    { echo "[rig] ERROR: --resume: ${checkpoint}: not a readable checkpoint" >&2; exit 2; }
+  [[ -f "${protocol}" ]] || { echo "[rig] ERROR: --resume: the checkpoint's protocol ${protocol} is gone" >&2; exit 2; }
+else
+  protocol="$(realpath "${1:-config/protocols/drained_100kPa_adaptive.yaml}")"
+  [[ -f "${protocol}" ]] || { echo "[rig] ERROR: protocol: no such file: ${protocol}" >&2; exit 2; }
+  out="$(mkdir -p "${OUT:-output/default}" && cd "${OUT:-output/default}" && pwd)"
+fi
 servo_node="${SERVO_NODE:-servo_controller_node}"
-rm -rf "${out}"/rig_*.bag "${out}"/rig_*.bag.active "${out}/plots" "${out}/summary.json" "${out}/results.h5" \
-  "${out}/specimen_section.png"
+bag_prefix="rig"
+if [[ -n "${checkpoint}" ]]; then
+  # Keep what the killed run recorded: its open bags reindexed (rosbag
+  # reindex writes a backup *.orig.active, removed once it succeeded) and
+  # closed; the resumed run records into the next free rig_rN prefix.
+  for b in "${out}"/rig*.bag.active; do
+    [[ -e "${b}" ]] || continue
+    if (set +u; source build/devel/setup.bash >/dev/null 2>&1; rosbag reindex -q -f "${b}") >/dev/null 2>&1; then
+      mv -f "${b}" "${b%.active}"
+      rm -f "${b%.bag.active}.orig.bag.active" "${b%.active}.orig.active"
+      echo "[rig] kept the killed run's bag ${b%.active} (reindexed)"
+    else
+      echo "[rig] warning: rosbag reindex ${b} failed; left as it is" >&2
+    fi
+  done
+  n=1
+  while compgen -G "${out}/rig_r${n}_*.bag*" >/dev/null; do n=$((n + 1)); done
+  bag_prefix="rig_r${n}"
+  rm -rf "${out}/plots" "${out}/specimen_section.png"
+  echo "[rig] resuming ${protocol} from ${checkpoint}"
+else
+  rm -rf "${out}"/rig_*.bag "${out}"/rig_*.bag.active "${out}/plots" "${out}/summary.json" "${out}/results.h5" \
+    "${out}/results.h5.checkpoint.h5" "${out}/specimen_section.png"
+fi
 
 export PATH
 # Rig settings that must match the protocol (control.interval, control.servo).
@@ -188,7 +234,7 @@ record_args=()
 # whose 100-message queues drop messages when it is starved of CPU for 100
 # control ticks) runs inside the rig's process as a nodelet: the rig's own
 # topics reach it as pointers, so recording costs the lockstep loop nothing.
-[[ "${record}" != 0 ]] && record_args=(record:="${out}/rig")
+[[ "${record}" != 0 ]] && record_args=(record:="${out}/${bag_prefix}")
 # Specimen snapshots (dem_node ~snapshot_dir): load, stage ends, output.snapshot_interval.
 snapshot_args=()
 [[ "${SNAPSHOTS:-1}" != 0 ]] && snapshot_args=(snapshot_dir:="${out}/specimen")
@@ -206,11 +252,11 @@ if [[ "${record}" != 0 ]]; then
   # The test starts once the recorder has subscribed (it opens its file last)
   # and has polled the master once for the other topics.
   for _ in $(seq 1 150); do
-    [[ -f "${out}/rig_0.bag.active" ]] && break
+    [[ -f "${out}/${bag_prefix}_0.bag.active" ]] && break
     kill -0 "${launch_pid}" 2>/dev/null || break
     nap 0.2
   done
-  [[ -f "${out}/rig_0.bag.active" ]] || echo "[rig] warning: the recorder did not start (${ROS_HOME}/rig.log)" >&2
+  [[ -f "${out}/${bag_prefix}_0.bag.active" ]] || echo "[rig] warning: the recorder did not start (${ROS_HOME}/rig.log)" >&2
   nap 0.5
 fi
 
@@ -225,7 +271,9 @@ died_nodes() {
 echo "[rig] running ${protocol}"
 rc=0
 client_out="${ROS_HOME}/client.out"
-setsid scripts/run_test_client.py "${protocol}" --out "${out}" >"${client_out}" 2>&1 </dev/null &
+client_args=("${protocol}")
+[[ -n "${checkpoint}" ]] && client_args=(--resume "${checkpoint}")
+setsid scripts/run_test_client.py "${client_args[@]}" --out "${out}" >"${client_out}" 2>&1 </dev/null &
 client_pid=$!
 pids+=("${client_pid}")
 tail -n +1 -f --pid="${client_pid}" "${client_out}" &
@@ -279,19 +327,20 @@ fi
 # The results file is complete once the client has the result: its plots
 # are made while the rig stops.
 plot_pids=()
-if [[ -f "${out}/results.h5" ]]; then
+plots="${PLOTS:-1}"
+if [[ "${plots}" != 0 && -f "${out}/results.h5" ]]; then
   /usr/bin/python3 scripts/plot_results.py "${out}/results.h5" &
   plot_pids+=($!)
 fi
 nap 0.5  # let the recorder write the last messages
 t_stop=${SECONDS}
 cleanup
-echo "[rig] rig stopped ($((SECONDS - t_stop)) s); plots"
-if [[ "${record}" != 0 ]] && compgen -G "${out}/rig*.bag" >/dev/null; then
+echo "[rig] rig stopped ($((SECONDS - t_stop)) s)$([[ "${plots}" != 0 ]] && echo '; plots')"
+if [[ "${plots}" != 0 && "${record}" != 0 ]] && compgen -G "${out}/rig*.bag" >/dev/null; then
   /usr/bin/python3 scripts/bag_report.py "${out}"/rig*.bag --out "${out}/plots" &
   plot_pids+=($!)
 fi
-if [[ "${SNAPSHOTS:-1}" != 0 && -f "${out}/specimen/snapshots.csv" ]]; then
+if [[ "${plots}" != 0 && "${SNAPSHOTS:-1}" != 0 && -f "${out}/specimen/snapshots.csv" ]]; then
   /usr/bin/python3 scripts/specimen_section.py "${out}/specimen" --out "${out}/specimen_section.png" &
   plot_pids+=($!)
 fi

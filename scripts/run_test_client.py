@@ -3,6 +3,10 @@
 
     run_test_client.py PROTOCOL.yaml [--out DIR] [--timeout S] [--server-timeout S]
                        [--liveness-timeout S] [--cancel-timeout S]
+    run_test_client.py --resume CHECKPOINT.h5 --out DIR [...]
+
+--resume continues a killed test from its checkpoint (DIR/results.h5.checkpoint.h5;
+the protocol it names must be unchanged) into DIR's results.h5.
 
 Prints the feedback (stage, eps_a, q, p, e, I_mom) about once a second and
 the result as JSON on the last stdout line.
@@ -88,7 +92,9 @@ class ServerWatch:
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("protocol", help="YAML protocol file (config/protocols/)")
+    ap.add_argument("protocol", nargs="?", default="", help="YAML protocol file (config/protocols/)")
+    ap.add_argument("--resume", default="", metavar="CHECKPOINT",
+                    help="continue a killed test from this checkpoint (instead of a protocol)")
     ap.add_argument("--out", default="", help="output folder (default: the node's ~output_dir)")
     ap.add_argument("--timeout", type=float, default=0.0, help="give up after this many wall seconds (0: never)")
     ap.add_argument("--server-timeout", type=float, default=30.0, help="wait this long for the action server")
@@ -101,7 +107,13 @@ def main():
         if not getattr(args, name) >= 0:
             print("run_test_client: --%s: must be >= 0" % name.replace("_", "-"), file=sys.stderr)
             return 2
-    if not os.path.isfile(args.protocol):
+    if bool(args.protocol) == bool(args.resume):
+        print("run_test_client: give exactly one of PROTOCOL.yaml and --resume CHECKPOINT", file=sys.stderr)
+        return 2
+    if args.resume and not os.path.isfile(args.resume):
+        print("run_test_client: --resume: no such file: %s" % args.resume, file=sys.stderr)
+        return 2
+    if args.protocol and not os.path.isfile(args.protocol):
         print("run_test_client: protocol: no such file: %s" % args.protocol, file=sys.stderr)
         return 2
     # A parent that runs us in the background may have set SIGINT to "ignore";
@@ -138,7 +150,8 @@ def run(args):
             print("[%s] eps_a %6.3f %%  q %8.1f kPa  p %8.1f kPa  e %.4f  I_mom %.2e" %
                   (fb.stage, 100 * fb.eps_a, fb.q / 1e3, fb.p / 1e3, fb.e, fb.moment_index), flush=True)
 
-    goal = RunTestGoal(protocol_file=os.path.abspath(args.protocol),
+    goal = RunTestGoal(protocol_file=os.path.abspath(args.protocol) if args.protocol else "",
+                       resume=os.path.abspath(args.resume) if args.resume else "",
                        output_dir=os.path.abspath(args.out) if args.out else "")
     client.send_goal(goal, feedback_cb=on_feedback)
     t0 = time.monotonic()

@@ -46,6 +46,8 @@ void write_checkpoint(const std::string& path, const CheckpointFile& c) {
     g.set_attr("servo_start_time", r.servo_start_time);
     g.set_attr("specimen_void_ratio", r.specimen.void_ratio);
     g.set_attr("specimen_dispersity_index", r.specimen.dispersity_index);
+    if (r.rig_tick > 0) g.set_attr("rig_tick", static_cast<std::int64_t>(r.rig_tick));
+    if (r.lockstep_timeouts > 0) g.set_attr("lockstep_timeouts", r.lockstep_timeouts);
     g.set_attr("finished", static_cast<std::int64_t>(r.finished.size()));
     for (std::size_t i = 0; i < r.finished.size(); ++i) {
       const std::string k = "finished_" + std::to_string(i) + "_";
@@ -57,6 +59,7 @@ void write_checkpoint(const std::string& path, const CheckpointFile& c) {
     g.write("rates", std::vector<double>(r.rates, r.rates + 3), 3, 0, "1/s");
     write_numbers(g, "servo_memory", r.servo_memory);
     write_numbers(g, "rate_strategy", r.judge.rate_strategy);
+    write_numbers(g, "rate_controller_memory", r.rate_controller_memory);
     const h5::Group j = g.create_group("judge");
     for (const auto& [name, value] : protocol::to_fields(r.judge)) j.set_attr(name, value);
   }
@@ -86,6 +89,8 @@ CheckpointFile read_checkpoint(const std::string& path) {
   r.servo_start_time = g.attr_double("servo_start_time");
   r.specimen.void_ratio = g.attr_double("specimen_void_ratio");
   r.specimen.dispersity_index = g.attr_double("specimen_dispersity_index");
+  if (g.has_attr("rig_tick")) r.rig_tick = static_cast<std::uint64_t>(g.attr_int("rig_tick"));
+  if (g.has_attr("lockstep_timeouts")) r.lockstep_timeouts = g.attr_int("lockstep_timeouts");
   const std::int64_t finished = g.attr_int("finished");
   for (std::int64_t i = 0; i < finished; ++i) {
     const std::string k = "finished_" + std::to_string(i) + "_";
@@ -99,6 +104,7 @@ CheckpointFile read_checkpoint(const std::string& path) {
   const std::vector<double> rates = g.read<double>("rates", 3, 0);
   for (int i = 0; i < 3; ++i) r.rates[i] = rates[static_cast<std::size_t>(i)];
   r.servo_memory = read_numbers(g, "servo_memory");
+  r.rate_controller_memory = read_numbers(g, "rate_controller_memory");
   const h5::Group j = g.open_group("judge");
   std::map<std::string, double> fields;
   for (const std::string& name : j.attr_names()) fields[name] = j.attr_double(name);

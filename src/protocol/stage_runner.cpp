@@ -62,14 +62,6 @@ std::string StageRunner::progress_line(const StageSpec& st, std::int64_t k, cons
   return buf;
 }
 
-bool StageRunner::checkpoint_due() {
-  if (options_.checkpoint_ticks <= 0 && options_.checkpoint_seconds <= 0) return false;
-  const double since = seconds_since(last_checkpoint_);
-  if (since < kCheckpointCostFactor * checkpoint_cost_) return false;  // the cost bound
-  return (options_.checkpoint_ticks > 0 && ticks_since_checkpoint_ >= options_.checkpoint_ticks) ||
-         (options_.checkpoint_seconds > 0 && since >= options_.checkpoint_seconds);
-}
-
 bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver& obs, RunReport& report,
                             const RunCheckpoint* resume) {
   if (!resume) sim_.reset_strain_reference();  // a resumed stage keeps its reference (in the state)
@@ -140,7 +132,7 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
     }
     k += n;
     ++report.ticks;
-    ++ticks_since_checkpoint_;
+    checkpoints_.tick();
     const dem::Mat3 stress = sim_.current_stress();
     if (servo) {
       control::ServoInput in;
@@ -182,7 +174,7 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
       break;
     }
     if (!boundary.servo[st.axial_axis]) rates[st.axial_axis] = d.axial_rate;
-    if (sample && checkpoint_due()) {  // everything the next tick depends on
+    if (sample && checkpoints_.due()) {  // everything the next tick depends on
       RunCheckpoint c;
       c.stage_index = index;
       c.stage_steps = k;
@@ -198,9 +190,7 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
       c.servo_start_time = servo_start;
       const auto t = Clock::now();
       obs.on_checkpoint(c, sim_);
-      last_checkpoint_ = Clock::now();
-      checkpoint_cost_ = std::chrono::duration<double>(last_checkpoint_ - t).count();
-      ticks_since_checkpoint_ = 0;
+      checkpoints_.done(seconds_since(t));
     }
     if (options_.progress_seconds > 0 && seconds_since(t_progress) >= options_.progress_seconds &&
         last.step > 0) {
@@ -241,9 +231,8 @@ RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& ob
     // The checkpoint was taken on a sample tick: its state is the last good one.
     if (options_.keep_last_good) report.last_good = sim_.state();
   }
-  run_start_ = last_checkpoint_ = Clock::now();
-  ticks_since_checkpoint_ = 0;
-  checkpoint_cost_ = 0.0;
+  run_start_ = Clock::now();
+  checkpoints_.restart();
   for (std::size_t i = first; i < stages.size(); ++i)
     if (!run_stage(stages[i], i, observer, report, i == first ? resume : nullptr)) break;
   report.wall_seconds = wall_before_ + seconds_since(run_start_);

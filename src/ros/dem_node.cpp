@@ -187,6 +187,7 @@ void DemNode::run_tick() {
   if (clock_period_ <= 0.0 || (t1 - last_clock_).toSec() >= clock_period_) publish_clock();
   const ::ros::WallTime t2 = ::ros::WallTime::now();
   if (lockstep_) wait_for_commands();
+  answered_tick_ = tick_;
   diag_.add_tick((t1 - t0).toSec(), (t2 - t1).toSec(), (::ros::WallTime::now() - t2).toSec());
 }
 
@@ -298,6 +299,7 @@ bool DemNode::on_get_info(virtual_triaxial::GetInfo::Request&, virtual_triaxial:
   rs.particles = static_cast<std::uint32_t>(sim_->particles().size());
   rs.time = sim_->time();
   rs.tick = tick_;
+  rs.answered_tick = answered_tick_;
   rs.step = sim_->steps();
   rs.publish_every = static_cast<std::uint32_t>(publish_every_);
   rs.lockstep = lockstep_;
@@ -379,13 +381,21 @@ bool DemNode::on_load(virtual_triaxial::LoadSample::Request& rq, virtual_triaxia
     return rq.path.size() >= e.size() && rq.path.compare(rq.path.size() - e.size(), e.size(), e) == 0;
   };
   try {
-    install(ends_with(".yaml") || ends_with(".yml") ? loader_->load_scene(rq.path) : loader_->load_sample(rq.path));
+    if (rq.resume)
+      install(loader_->load_checkpoint(rq.path));
+    else
+      install(ends_with(".yaml") || ends_with(".yml") ? loader_->load_scene(rq.path) : loader_->load_sample(rq.path));
   } catch (const std::exception& e) {
     rs.success = false;
     rs.message = std::string("path: ") + e.what();
     return true;
   }
   pending_ticks_ = 0;
+  if (rq.resume) {
+    tick_ = answered_tick_ = rq.tick;
+    ROS_INFO("dem_node: resuming a test from %s: next tick %llu (step %lld)", rq.path.c_str(),
+             static_cast<unsigned long long>(tick_ + 1), static_cast<long long>(sim_->steps()));
+  }
   publish_clock();
   rs.success = true;
   rs.message = "loaded " + rq.path + " (" + std::to_string(sim_->particles().size()) + " particles)";

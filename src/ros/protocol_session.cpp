@@ -49,30 +49,6 @@ ProtocolSession::ProtocolSession(const ::ros::NodeHandle& nh, std::string servo,
                                  double rig_timeout)
     : nh_(nh), servo_(std::move(servo)), owner_(std::move(owner)), rig_timeout_(rig_timeout) {}
 
-template <class Srv>
-void ProtocolSession::call(const std::string& name, Srv& srv) {
-  ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
-  if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
-    throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
-  // A failed call is a transport failure (the servers answer refusals with
-  // success = false); every request the session makes is idempotent, so it
-  // is retried a few times before the test is given up.
-  bool called = false;
-  for (int attempt = 0; attempt < 5 && !called; ++attempt) {
-    if (attempt > 0) {
-      ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), attempt);
-      ::ros::WallDuration(0.2).sleep();
-    }
-    called = c.call(srv);
-  }
-  if (!called) throw RigError(name + ": call failed (5 attempts)");
-  if constexpr (std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
-    return;
-  } else {
-    if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);
-  }
-}
-
 std::string ProtocolSession::dead_node(bool servo_too) const {
   // service::exists connects to the service's port: refused once the process
   // is gone (the master still lists a killed node's services). A stopped
@@ -150,25 +126,27 @@ void ProtocolSession::tune_servo() {
                        " (keeps " + std::to_string(d.value) + "; see its log)");
 }
 
-protocol::StageJudge ProtocolSession::make_judge(const protocol::StageSpec& st) {
+protocol::StageJudge ProtocolSession::make_judge(const protocol::StageSpec& st,
+                                                const protocol::SpecimenAtStart* at_start) {
   protocol::RunOptions options = scene_->run_options();
   options.control_interval = publish_every_;  // = control.interval, checked in run()
   virtual_triaxial::GetInfo info;
   call("get_info", info);
   options.young_modulus = info.response.young_modulus;
-  protocol::SpecimenAtStart specimen;
-  specimen.void_ratio = info.response.void_ratio;
-  specimen.dispersity_index = info.response.dispersity_index;
+  specimen_.void_ratio = info.response.void_ratio;
+  specimen_.dispersity_index = info.response.dispersity_index;
+  if (at_start) specimen_ = *at_start;
   try {
-    return protocol::StageJudge(st, options, ctx_.t0, specimen);
+    return protocol::StageJudge(st, options, ctx_.t0, specimen_);
   } catch (const std::invalid_argument& e) {
     throw RigError(e.what());
   }
 }
 
-void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge) {
+void ProtocolSession::configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge,
+                                      const protocol::RunCheckpoint* resume) {
   const protocol::StageBoundary& b = judge.boundary();
-  trigger("reset_strain");
+  if (!resume) trigger("reset_strain");  // a resumed stage keeps its reference (in the checkpoint's state)
   trigger(servo_ + "/disable");
   if (rate_controller_on_) {
     trigger(rate_controller_ + "/disable");
@@ -176,11 +154,13 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
   }
   // Open-loop rates first: a controller that claims an axis keeps its
   // open-loop rate until its first command (axis_arbiter.h), so the servo
-  // axes start at 0 and the axial axis at the judge's first rate, as in triax_run.
+  // axes start at 0 and the axial axis at the judge's first rate, as in triax_run;
+  // a resumed stage's axes at the rates its checkpoint's next tick had.
   for (int a = 0; a < 3; ++a) {
     virtual_triaxial::SetStrainRate r;
     r.request.axis = static_cast<std::uint8_t>(a);
     r.request.strain_rate = b.servo[a] ? 0.0 : (a == st.axial_axis ? judge.first_axial_rate() : b.open_rate[a]);
+    if (resume) r.request.strain_rate = resume->rates[a];
     r.request.dimensionless = false;
     call("set_strain_rate", r);
   }
@@ -194,8 +174,12 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     cp.request.ramp_seconds = 0.0;
     call(servo_ + "/set_confining_pressure", cp);
     trigger(servo_ + "/enable");
+    if (resume) restore_controller_memory(servo_, resume->servo_memory);
   }
-  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) start_rate_controller(st, judge);
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
+    start_rate_controller(st, judge);
+    if (resume) restore_controller_memory(rate_controller_, resume->rate_controller_memory);
+  }
 }
 
 void ProtocolSession::start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge) {
@@ -228,10 +212,12 @@ void ProtocolSession::start_rate_controller(const protocol::StageSpec& st, const
 }
 
 protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std::string& protocol_path,
-                                         io::ResultsRecorder& recorder, SessionLinks& links) {
+                                         io::ResultsRecorder& recorder, SessionLinks& links,
+                                         const io::CheckpointFile* resume, const std::string& resume_path) {
   scene_ = &scene;
+  protocol_path_ = protocol_path;
   protocol_name_ = std::filesystem::path(protocol_path).stem().string();
-  const auto t_start = Clock::now();
+  t_start_ = Clock::now();
   virtual_triaxial::GetInfo info;
   call("get_info", info);
   if (static_cast<std::int64_t>(info.response.publish_every) != scene.control.interval)
@@ -245,7 +231,9 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
   timeouts_at_start_ = info.response.lockstep_timeouts;
   trigger("pause");
   virtual_triaxial::LoadSample load;
-  load.request.path = protocol_path;
+  load.request.path = resume ? resume_path : protocol_path;
+  load.request.resume = resume != nullptr;
+  if (resume) load.request.tick = resume->run.rig_tick;
   call("load_sample", load);
   call("get_info", info);
   ctx_.particles = info.response.particles;
@@ -260,10 +248,41 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
 
   protocol::RunReport report;
   verdict_word_ = "completed";
-  for (std::size_t i = 0; i < scene.stages.size(); ++i)
-    if (!run_stage(scene.stages[i], i, scene.stages.size(), recorder, links, report)) break;
+  std::size_t first = 0;
+  wall_before_ = 0.0;
+  timeouts_before_ = 0;
+  if (resume) {
+    const protocol::RunCheckpoint& c = resume->run;
+    if (c.stage_index >= scene.stages.size())
+      throw RigError("resume: " + resume_path + ": stage " + std::to_string(c.stage_index) + " of a protocol with " +
+                     std::to_string(scene.stages.size()) + " stages");
+    first = c.stage_index;
+    report.stages = c.finished;
+    report.steps = c.steps;
+    report.ticks = c.ticks;
+    wall_before_ = c.wall_seconds;
+    timeouts_before_ = c.lockstep_timeouts;
+    ROS_INFO("test_protocol_node: resuming %s at stage '%s', stage step %lld (tick %llu)", protocol_name_.c_str(),
+             scene.stages[first].name.c_str(), static_cast<long long>(c.stage_steps),
+             static_cast<unsigned long long>(c.rig_tick));
+  }
+  const protocol::RunOptions options = scene.run_options();
+  schedule_.reset();
+  if (!run_checkpoint_.empty() && (options.checkpoint_ticks > 0 || options.checkpoint_seconds > 0))
+    schedule_.emplace(options.checkpoint_ticks, options.checkpoint_seconds);
+  checkpoints_written_ = 0;
+  for (std::size_t i = first; i < scene.stages.size(); ++i)
+    if (!run_stage(scene.stages[i], i, scene.stages.size(), recorder, links, report,
+                   resume && i == first ? &resume->run : nullptr))
+      break;
   finish_rig();
-  report.wall_seconds = seconds_since(t_start);
+  report.wall_seconds = wall_before_ + seconds_since(t_start_);
+  // The test has ended: nothing to resume, unless a node of the rig died
+  // (then `run_triaxial.sh --resume` goes on from the last checkpoint).
+  if (!run_checkpoint_.empty() && !dem_dead_ && !servo_dead_) {
+    std::error_code ec;
+    std::filesystem::remove(run_checkpoint_, ec);
+  }
   return report;
 }
 
@@ -272,7 +291,8 @@ void ProtocolSession::finish_rig() {
   try {
     virtual_triaxial::GetInfo info;
     call("get_info", info);
-    ctx_.lockstep_timeouts = static_cast<std::int64_t>(info.response.lockstep_timeouts - timeouts_at_start_);
+    ctx_.lockstep_timeouts =
+        timeouts_before_ + static_cast<std::int64_t>(info.response.lockstep_timeouts - timeouts_at_start_);
     ctx_.dt = info.response.dt;  // the step in force at the end (the contacts basis changes it), as triax_run's
     if (ctx_.lockstep_timeouts > 0)
       ROS_WARN("test_protocol_node: %lld lockstep timeouts during the test (a participant answered late; see "
@@ -297,16 +317,24 @@ void ProtocolSession::finish_rig() {
 }
 
 bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count,
-                                io::ResultsRecorder& recorder, SessionLinks& links, protocol::RunReport& report) {
+                                io::ResultsRecorder& recorder, SessionLinks& links, protocol::RunReport& report,
+                                const protocol::RunCheckpoint* resume) {
   const io::SceneConfig& scene = *scene_;
-  protocol::StageJudge judge = make_judge(st);
-  configure_stage(st, judge);
+  protocol::StageJudge judge = make_judge(st, resume ? &resume->specimen : nullptr);
+  if (resume) judge.restore_state(resume->judge);
+  configure_stage(st, judge, resume);
   const bool external_rate = rate_controller_on_;  // the rate controller commands the axial axis
-  const std::uint64_t start = current_tick();
-  tick_ = start;
   const std::int64_t n = publish_every_;
-  ROS_INFO("test_protocol_node: [%s] start: %s (stage %zu of %zu)", st.name.c_str(), protocol::to_string(st.type),
-           index + 1, count);
+  // The tick the stage started after (a resumed stage: as if it had run here).
+  const std::uint64_t now = current_tick();
+  const std::uint64_t start = resume ? now - static_cast<std::uint64_t>(resume->stage_steps / n) : now;
+  tick_ = now;
+  if (resume)
+    ROS_INFO("test_protocol_node: [%s] resumed at stage step %lld (stage %zu of %zu)", st.name.c_str(),
+             static_cast<long long>(resume->stage_steps), index + 1, count);
+  else
+    ROS_INFO("test_protocol_node: [%s] start: %s (stage %zu of %zu)", st.name.c_str(), protocol::to_string(st.type),
+             index + 1, count);
 
   virtual_triaxial::ProtocolStatus status;
   status.protocol = protocol_name_;
@@ -319,13 +347,20 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   // One tick judged by the stage judge (see TickJudge); it runs in the
   // node's tick thread and owns the judge's decide() side while the stage runs.
   const std::uint64_t stage_start = start;
+  // A checkpoint is due on a sample tick the stage goes on from (checkpoint_schedule.h).
   auto decide = [&, stage_start, n, external_rate](std::uint64_t t, const TickMessages& m) {
     const std::int64_t steps = static_cast<std::int64_t>(t - stage_start) * n;
     protocol::TickSample ts = tick_sample(m, st.axial_axis, steps, judge.is_sample_tick(steps));
     if (external_rate) ts.applied_axial_rate = m.strain->strain_rate[static_cast<std::size_t>(st.axial_axis)];
-    return judge.decide(ts, links.stop_request());
+    TickVerdict v;
+    v.decision = judge.decide(ts, links.stop_request());
+    if (schedule_) {
+      schedule_->tick();
+      v.hold = v.decision.kind == TickDecision::Kind::Continue && v.decision.sample_tick && schedule_->due();
+    }
+    return v;
   };
-  links.arm(decide, start);
+  links.arm(decide, now);
   struct Disarm {  // the judge refers to this frame's locals
     SessionLinks& l;
     ~Disarm() { l.arm(nullptr, 0); }
@@ -334,7 +369,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   trigger("resume");
   auto t_feedback = Clock::now() - std::chrono::seconds(1);
   auto t_progress = Clock::now();
-  std::uint64_t tick_progress = start;
+  std::uint64_t tick_progress = now;
   while (true) {
     const std::uint64_t want = tick_ + 1;
     std::string dead;
@@ -376,7 +411,8 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
     if (judged->decision.kind == TickDecision::Kind::StepLimit) verdict_word_ = "step_limit";
     if (judged->decision.kind == TickDecision::Kind::Stop) verdict_word_ = why;
     const bool last = !why.empty();
-    if (last) trigger("pause");  // before answering: dem_node halts right after this tick
+    const bool hold = judged->hold && !last;  // a checkpoint after this tick
+    if (last || hold) trigger("pause");  // before answering: dem_node halts right after this tick
     if (!judged->answered) links.answer(tick_);
     if (sample || last) {
       const dem::Measures measures =
@@ -385,6 +421,10 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       judge.record(measures, judged->decision);
     }
     ++report.ticks;
+    if (hold) {
+      take_checkpoint(index, steps, judge, report, recorder);
+      trigger("resume");
+    }
 
     status.header = m.stress->header;
     status.tick = tick_;

@@ -33,6 +33,8 @@ RateControllerNode::RateControllerNode(const ::ros::NodeHandle& nh, const ::ros:
   services_.push_back(pnh_.advertiseService("configure", &RateControllerNode::on_configure, this));
   services_.push_back(pnh_.advertiseService("enable", &RateControllerNode::on_enable, this));
   services_.push_back(pnh_.advertiseService("disable", &RateControllerNode::on_disable, this));
+  services_.push_back(pnh_.advertiseService("get_memory", &RateControllerNode::on_get_memory, this));
+  services_.push_back(pnh_.advertiseService("set_memory", &RateControllerNode::on_set_memory, this));
 }
 
 bool RateControllerNode::on_configure(virtual_triaxial::ConfigureRate::Request& rq,
@@ -136,6 +138,39 @@ bool RateControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trigg
   strategy_.reset();
   rs.success = why.empty();
   rs.message = why.empty() ? "disabled; axis released" : "disabled; " + why;
+  return true;
+}
+
+bool RateControllerNode::on_get_memory(virtual_triaxial::GetMemory::Request&,
+                                       virtual_triaxial::GetMemory::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
+  rs.success = true;
+  if (!strategy_) {
+    rs.message = "not configured (no memory)";
+    return true;
+  }
+  rs.strategy = strategy_->name();
+  rs.memory = strategy_->memory();
+  rs.message = std::to_string(rs.memory.size()) + " numbers";
+  return true;
+}
+
+bool RateControllerNode::on_set_memory(virtual_triaxial::SetMemory::Request& rq,
+                                       virtual_triaxial::SetMemory::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
+  rs.success = false;
+  if (!strategy_ || !claimed_) {
+    rs.message = "memory: the rate controller is not running (configure and enable it first)";
+    return true;
+  }
+  try {
+    strategy_->restore_memory(rq.memory);
+  } catch (const std::invalid_argument& e) {
+    rs.message = std::string("memory: ") + e.what();
+    return true;
+  }
+  rs.success = true;
+  rs.message = "restored " + std::to_string(rq.memory.size()) + " numbers";
   return true;
 }
 

@@ -59,6 +59,8 @@ ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ro
   services_.push_back(pnh_.advertiseService("set_axes", &ServoControllerNode::on_set_axes, this));
   services_.push_back(pnh_.advertiseService("enable", &ServoControllerNode::on_enable, this));
   services_.push_back(pnh_.advertiseService("disable", &ServoControllerNode::on_disable, this));
+  services_.push_back(pnh_.advertiseService("get_memory", &ServoControllerNode::on_get_memory, this));
+  services_.push_back(pnh_.advertiseService("set_memory", &ServoControllerNode::on_set_memory, this));
   retry_timer_ = nh_.createWallTimer(::ros::WallDuration(0.2), &ServoControllerNode::on_retry, this);
   // Live tuning in the private namespace. The server first loads the .cfg
   // defaults (and writes them to ~gain, ...): overwrite them with the values
@@ -426,6 +428,40 @@ bool ServoControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trig
   const std::string why = release();
   rs.success = why.empty();
   rs.message = why.empty() ? "disabled; axes released" : "disabled; " + why;
+  return true;
+}
+
+bool ServoControllerNode::on_get_memory(virtual_triaxial::GetMemory::Request&,
+                                        virtual_triaxial::GetMemory::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
+  rs.strategy = strategy_name_;
+  if (!strategy_) {
+    rs.success = true;  // not running: no memory
+    rs.message = "not running (no memory)";
+    return true;
+  }
+  rs.memory = strategy_->memory();
+  rs.success = true;
+  rs.message = std::to_string(rs.memory.size()) + " numbers at tick " + std::to_string(last_tick_);
+  return true;
+}
+
+bool ServoControllerNode::on_set_memory(virtual_triaxial::SetMemory::Request& rq,
+                                        virtual_triaxial::SetMemory::Response& rs) {
+  const std::lock_guard<std::recursive_mutex> lock(mutex_);
+  rs.success = false;
+  if (!enabled_ || !claimed_ || !strategy_) {
+    rs.message = "memory: the servo is not running (enable it first; axes claimed)";
+    return true;
+  }
+  try {
+    strategy_->restore_memory(rq.memory);
+  } catch (const std::invalid_argument& e) {
+    rs.message = std::string("memory: ") + e.what();
+    return true;
+  }
+  rs.success = true;
+  rs.message = "restored " + std::to_string(rq.memory.size()) + " numbers";
   return true;
 }
 

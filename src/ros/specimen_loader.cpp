@@ -52,6 +52,13 @@ Specimen SpecimenLoader::load_sample(const std::string& path) const {
   return s;
 }
 
+Specimen SpecimenLoader::load_checkpoint(const std::string& path) const {
+  Specimen s;
+  s.sim = std::make_unique<dem::Simulation>(io::read_sample(path, &s.meta));
+  s.source = path;
+  return s;
+}
+
 Specimen SpecimenLoader::load_scene(const std::string& path) const {
   const std::string bad = overrides_.validate();
   if (!bad.empty()) throw std::invalid_argument(bad);

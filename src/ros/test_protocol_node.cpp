@@ -4,11 +4,15 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <sstream>
 
 #include <boost/make_shared.hpp>
 
 #include "virtual_triaxial/CellCommand.h"
 #include "virtual_triaxial/ProtocolStatus.h"
+#include "virtual_triaxial/io/checkpoint_file.h"
+#include "virtual_triaxial/io/checkpoint_recorder.h"
 #include "virtual_triaxial/io/scene_error.h"
 #include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/io/scene_parser.h"
@@ -150,10 +154,13 @@ void TestProtocolNode::judge_ready() {
     if (!msgs) return;
     JudgedTick j;
     j.msgs = std::move(*msgs);
-    j.decision = judge_(judge_next_, j.msgs);
-    // Answer at once unless the stage ends here (the session pauses dem_node
-    // first) or the session lags too far behind (it answers when it catches up).
-    if (j.decision.kind == TickDecision::Kind::Continue && judge_next_ <= taken_ + kMaxLag) {
+    const TickVerdict v = judge_(judge_next_, j.msgs);
+    j.decision = v.decision;
+    j.hold = v.hold;
+    // Answer at once unless the stage ends here or a checkpoint follows (the
+    // session pauses dem_node first) or the session lags too far behind (it
+    // answers when it catches up).
+    if (j.decision.kind == TickDecision::Kind::Continue && !j.hold && judge_next_ <= taken_ + kMaxLag) {
       answer(judge_next_);
       j.answered = true;
     }
@@ -210,11 +217,19 @@ std::optional<JudgedTick> TestProtocolNode::wait_tick(std::uint64_t tick, double
 
 namespace {
 
+/// A file's contents ("" when it cannot be read).
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 /// The protocol file of a goal; writes inline YAML to <dir>/protocol.yaml.
 std::string protocol_path(const virtual_triaxial::RunTestGoal& g, const fs::path& dir) {
   const bool file = !g.protocol_file.empty(), text = !g.protocol_yaml.empty();
   if (file == text)
-    throw io::SceneError("goal", "give exactly one of protocol_file and protocol_yaml");
+    throw io::SceneError("goal", "give exactly one of protocol_file, protocol_yaml and resume");
   if (file) return fs::absolute(g.protocol_file).string();
   const fs::path p = dir / "protocol.yaml";
   try {
@@ -245,12 +260,29 @@ void TestProtocolNode::execute(GoalHandle gh) {
     gh.setAborted(result, why);
   };
   io::SceneConfig scene;
-  std::string path;
+  std::string path, scene_text, resume_path;
+  std::optional<io::CheckpointFile> resume;
   try {
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw io::SceneError("output_dir", "cannot create " + dir.string() + ": " + ec.message());
-    path = protocol_path(*goal, dir);
+    if (!goal->resume.empty()) {  // the checkpoint names the protocol; it must be unchanged
+      if (!goal->protocol_file.empty() || !goal->protocol_yaml.empty())
+        throw io::SceneError("goal", "give exactly one of protocol_file, protocol_yaml and resume");
+      resume_path = fs::absolute(goal->resume).string();
+      try {
+        resume = io::read_checkpoint(resume_path);
+      } catch (const std::exception& e) {
+        throw io::SceneError("resume", e.what());
+      }
+      path = resume->scene_path;
+      if (read_text(path) != resume->scene_text)
+        throw io::SceneError("resume", path + ": changed since the checkpoint (the resumed test would not be the "
+                                              "test that was run; start it again instead)");
+    } else {
+      path = protocol_path(*goal, dir);
+    }
+    scene_text = read_text(path);
     {
       const std::lock_guard<std::mutex> lock(protocol_mutex_);
       last_protocol_ = path;
@@ -290,12 +322,14 @@ void TestProtocolNode::execute(GoalHandle gh) {
   protocol::RunReport report;
   try {
     io::ResultsRecorder recorder(result.results_file, true);
+    if (resume) recorder.resume(static_cast<std::size_t>(resume->results_rows));  // throws naming the file
+    session.set_run_checkpoint(io::checkpoint_path(result.results_file), scene_text);
     // summary.json as the test goes (verdict `interrupted`), replaced at the end
     recorder.set_after_flush([&result](std::size_t samples, const std::string& stage) {
       io::write_text_atomic(result.summary_file,
                             io::partial_summary_json(samples, stage, result.results_file) + "\n");
     });
-    report = session.run(scene, path, recorder, links);
+    report = session.run(scene, path, recorder, links, resume ? &*resume : nullptr, resume_path);
     recorder.finish(report, session.context());
   } catch (const std::exception& e) {
     return refuse("failed", e.what());

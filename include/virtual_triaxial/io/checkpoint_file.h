@@ -8,11 +8,14 @@
 //                stage_index, stage_steps, steps, ticks (int64),
 //                wall_seconds [s], servo (int64 0/1), servo_start_time [s],
 //                specimen_void_ratio, specimen_dispersity_index [1] (at the stage start),
+//                rig_tick, lockstep_timeouts (int64; the ROS rig's, absent
+//                in a headless checkpoint: 0),
 //                finished (int64 count) and per finished stage i:
 //                finished_<i>_name, _type (int64), _steps, _stop_reason
 //     /rates          (3) float64 [1/s] next tick's log-strain rates
 //     /servo_memory   (n) float64 [1]  control::ServoStrategy::memory() (absent: none)
 //     /rate_strategy  (n) float64 [1]  the judge's rate strategy memory (absent: none)
+//     /rate_controller_memory (n) float64 [1]  the rig's rate controller node's (absent: none)
 //   /checkpoint/judge  attrs: the judge's numbers (stage_judge_state.h to_fields)
 // Doubles round-trip bit for bit. Errors name the file and the field.
 #pragma once

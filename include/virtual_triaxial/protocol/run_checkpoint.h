@@ -28,6 +28,11 @@ struct RunCheckpoint {
   bool servo = false;                 ///< the stage runs a servo
   std::vector<double> servo_memory;   ///< control::ServoStrategy::memory()
   double servo_start_time = 0;        ///< simulation time the servo started at [s]
+  // The ROS rig only (headless: 0 / empty): its controllers are nodes with
+  // memories of their own, and dem_node counts the ticks the bag records.
+  std::uint64_t rig_tick = 0;                   ///< dem_node's control tick of the checkpoint
+  std::vector<double> rate_controller_memory;  ///< the rate controller node's ~get_memory
+  std::int64_t lockstep_timeouts = 0;          ///< dem_node's lockstep timeouts of the run so far
 };
 
 }  // namespace vt::protocol

@@ -35,6 +35,7 @@
 
 #include "virtual_triaxial/control/servo_strategy.h"
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/protocol/checkpoint_schedule.h"
 #include "virtual_triaxial/protocol/shear_summary.h"
 #include "virtual_triaxial/protocol/stage_monitor.h"
 #include "virtual_triaxial/protocol/stage_spec.h"
@@ -74,16 +75,15 @@ struct RunOptions {
   /// For the eq. 84 prediction of the `predicted` / `adaptive` rate strategies:
   double young_modulus = 0.0;              ///< E of the specimen [Pa] (0 = not known)
   quasi_static::QsDamping qs_damping = quasi_static::QsDamping::OD;  ///< ND for ND damping, else OD
-  /// Checkpoints inside a stage (run_checkpoint.h, RunObserver::on_checkpoint):
-  /// on the first sample tick after checkpoint_ticks control ticks or
-  /// checkpoint_seconds wall seconds since the last one (0 = that trigger
-  /// off), and never sooner than kCheckpointCostFactor x the wall time the
-  /// last one took, so they cost at most ~1/kCheckpointCostFactor of the run.
+  /// Checkpoints inside a stage (run_checkpoint.h, RunObserver::on_checkpoint),
+  /// due as checkpoint_schedule.h says: on the first sample tick after
+  /// checkpoint_ticks control ticks or checkpoint_seconds wall seconds since
+  /// the last one (0 = that trigger off), never sooner than
+  /// kCheckpointCostFactor x the wall time the last one took.
   std::int64_t checkpoint_ticks = 0;
   double checkpoint_seconds = 0.0;
 };
 
-inline constexpr double kCheckpointCostFactor = 20.0;
 struct RunCheckpoint;  // run_checkpoint.h
 
 struct RunReport {
@@ -112,7 +112,8 @@ class RunObserver {
 
 class StageRunner {
  public:
-  StageRunner(dem::Simulation& sim, const RunOptions& options) : sim_(sim), options_(options) {}
+  StageRunner(dem::Simulation& sim, const RunOptions& options)
+      : sim_(sim), options_(options), checkpoints_(options.checkpoint_ticks, options.checkpoint_seconds) {}
   /// Throws std::invalid_argument naming the option when RunOptions are bad.
   /// `resume`: continue a checkpointed run (the Simulation must hold the
   /// checkpoint's state); the stages are the run's, from the first.
@@ -124,16 +125,12 @@ class StageRunner {
   /// Returns false when the run must end (instability, step limit, abort).
   bool run_stage(const StageSpec& stage, std::size_t index, RunObserver& observer, RunReport& report,
                  const RunCheckpoint* resume);
-  /// True when a checkpoint is due after this tick (and then restarts the count).
-  bool checkpoint_due();
   std::string progress_line(const StageSpec& stage, std::int64_t k, const dem::Measures& m, double rate) const;
 
   dem::Simulation& sim_;
   RunOptions options_;
   std::atomic<bool> abort_{false};
-  std::int64_t ticks_since_checkpoint_ = 0;
-  std::chrono::steady_clock::time_point last_checkpoint_{};
-  double checkpoint_cost_ = 0.0;  ///< wall seconds the last checkpoint took
+  CheckpointSchedule checkpoints_;
   std::chrono::steady_clock::time_point run_start_{};
   double wall_before_ = 0.0;      ///< a resumed run's wall time before the resume [s]
 };

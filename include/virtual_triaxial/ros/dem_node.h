@@ -35,6 +35,10 @@
 // Services: set_strain_rate, claim_axes, release_axes, get_info, pause,
 //   resume, step, load_sample, save_sample, set_damping, set_friction,
 //   reset_strain (std_srvs/Trigger: strain reference := current cell).
+//   load_sample with `resume`: a test's checkpoint goes on (state as saved,
+//   strain reference kept, tick count continued: a resumed bag continues
+//   the tick numbering). get_info's answered_tick says when every owner's
+//   command for a tick is in (a rig checkpoint reads the next rates then).
 //   Refusals name the request field; the node keeps running unchanged.
 // Live tuning: dynamic_reconfigure ~set_parameters (damping_model,
 //   damping_ratio), applied between control ticks (ros/dem_reconfigure.h).
@@ -145,6 +149,7 @@ class DemNode {
   AxisArbiter arbiter_;
   DemDiagnostics diag_;
   std::uint64_t tick_ = 0;           ///< last published control tick
+  std::uint64_t answered_tick_ = 0;  ///< last tick whose lockstep wait has ended
   std::uint64_t pending_ticks_ = 0;  ///< ticks requested by `step` while paused
   bool paused_ = false;
   std::atomic<bool> stop_{false};

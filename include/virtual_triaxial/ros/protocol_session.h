@@ -4,19 +4,25 @@
 // test_protocol_node.h for the protocol of pausing and lockstep.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <vector>
 
 #include <ros/ros.h>
 
+#include "virtual_triaxial/GetInfo.h"
 #include "virtual_triaxial/ProtocolStatus.h"
 #include "virtual_triaxial/RunTestAction.h"
+#include "virtual_triaxial/io/checkpoint_file.h"
 #include "virtual_triaxial/io/results_recorder.h"
 #include "virtual_triaxial/io/run_summary_json.h"
 #include "virtual_triaxial/io/scene_config.h"
+#include "virtual_triaxial/protocol/checkpoint_schedule.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
 #include "virtual_triaxial/ros/tick_collector.h"
@@ -33,12 +39,22 @@ class RigError : public std::runtime_error {
 /// The decision on one control tick of a stage (the ROS-free stage judge's).
 using TickDecision = protocol::TickDecision;
 
+/// The judge's answer on one tick: its decision, and `hold` when the session
+/// takes a checkpoint after this tick (a sample tick on which the stage goes
+/// on): then the node does not answer it, the session does once dem_node is
+/// paused, as on a stage's last tick.
+struct TickVerdict {
+  TickDecision decision;
+  bool hold = false;
+};
+
 /// Decides tick k from its complete state. The node calls it exactly once
 /// per tick, in tick order, as soon as the tick's five messages are in,
 /// possibly in another thread (never concurrently with itself); when the
-/// stage goes on the node answers the tick at once, so dem_node does not
-/// wait for the session's bookkeeping (recording, feedback).
-using TickJudge = std::function<TickDecision(std::uint64_t tick, const TickMessages& msgs)>;
+/// stage goes on (and no checkpoint is due) the node answers the tick at
+/// once, so dem_node does not wait for the session's bookkeeping
+/// (recording, feedback).
+using TickJudge = std::function<TickVerdict(std::uint64_t tick, const TickMessages& msgs)>;
 
 /// A tick as the session receives it: its state, the judge's decision and
 /// whether the node has already answered it (never when the stage ends).
@@ -46,6 +62,7 @@ struct JudgedTick {
   TickMessages msgs;
   TickDecision decision;
   bool answered = false;
+  bool hold = false;  ///< a checkpoint follows this tick (TickVerdict::hold)
 };
 
 /// How the session talks to its node.
@@ -68,9 +85,23 @@ class ProtocolSession {
 
   /// Runs every stage of `scene` (loaded from `protocol_path`) on the rig.
   /// Throws RigError when the rig refuses or does not answer during set-up;
-  /// failures during the run end up in the report's verdict.
+  /// failures during the run end up in the report's verdict. `resume`: go
+  /// on from that checkpoint (read from `resume_path`; the recorder already
+  /// holds its samples): dem_node loads its state and tick, the finished
+  /// stages are skipped, the judge and the controllers get their memories back.
   protocol::RunReport run(const io::SceneConfig& scene, const std::string& protocol_path,
-                          io::ResultsRecorder& recorder, SessionLinks& links);
+                          io::ResultsRecorder& recorder, SessionLinks& links,
+                          const io::CheckpointFile* resume = nullptr, const std::string& resume_path = "");
+  /// Checkpoints inside a stage (run_checkpoint.h) into `path` (the results
+  /// file's io::checkpoint_path), at the scene's output.checkpoint_ticks /
+  /// checkpoint_seconds (checkpoint_schedule.h); `scene_text` is the
+  /// protocol file as the test read it. "" = none.
+  void set_run_checkpoint(std::string path, std::string scene_text) {
+    run_checkpoint_ = std::move(path);
+    scene_text_ = std::move(scene_text);
+  }
+  /// Checkpoints written inside stages (valid after run()).
+  int checkpoints_written() const { return checkpoints_written_; }
   /// Name of the rate controller node (rate_controller_node.h) that commands
   /// the axial rate of stages with a `predicted` or `adaptive` rate strategy.
   void set_rate_controller(std::string name) { rate_controller_ = std::move(name); }
@@ -82,20 +113,37 @@ class ProtocolSession {
   const std::string& verdict_word() const { return verdict_word_; }
 
  private:
+  /// Calls a rig service (waits for it up to rig_timeout_, retries a failed
+  /// call); throws RigError when it is not there or refuses (success false).
   template <class Srv>
   void call(const std::string& name, Srv& srv);
   void trigger(const std::string& name);
   std::uint64_t current_tick();
   /// control.servo -> the servo's dynamic_reconfigure (if it has one).
   void tune_servo();
-  void configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge);
+  /// `resume`: the stage goes on from that checkpoint (no strain reset, the
+  /// checkpoint's rates, the controllers' memories restored).
+  void configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge,
+                       const protocol::RunCheckpoint* resume);
   /// The rate controller's ~configure + ~enable for a stage whose strategy is not `fixed`.
   void start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge);
-  /// The judge of stage `st`, with the specimen as dem_node has it now.
-  protocol::StageJudge make_judge(const protocol::StageSpec& st);
+  /// The judge of stage `st`, with the specimen as dem_node has it now (or
+  /// as `at_start` says: a resumed stage); the specimen goes to specimen_.
+  protocol::StageJudge make_judge(const protocol::StageSpec& st, const protocol::SpecimenAtStart* at_start = nullptr);
   /// false when the run must end (report updated)
   bool run_stage(const protocol::StageSpec& st, std::size_t index, std::size_t count, io::ResultsRecorder& recorder,
-                 SessionLinks& links, protocol::RunReport& report);
+                 SessionLinks& links, protocol::RunReport& report, const protocol::RunCheckpoint* resume);
+  // ---- checkpoints (protocol_session_checkpoint.cpp) ----
+  /// Checkpoint after tick_ (dem_node paused, the tick answered, its sample
+  /// recorded): the next rates once every owner answered, the controllers'
+  /// memories, dem_node's state; results flushed first. A failure is logged
+  /// and turns checkpoints off (the test goes on).
+  void take_checkpoint(std::size_t index, std::int64_t stage_steps, const protocol::StageJudge& judge,
+                       const protocol::RunReport& report, io::ResultsRecorder& recorder);
+  /// A controller's ~get_memory; false (checkpoints off, logged) when it has none.
+  bool controller_memory(const std::string& node, std::vector<double>& memory);
+  /// ~set_memory of a controller on a resumed stage (throws RigError).
+  void restore_controller_memory(const std::string& node, const std::vector<double>& memory);
   void finish_rig();
   /// "" while dem_node (and, with `servo_too`, the servo) has a live process
   /// behind its services; else which one died. A TCP connect per call.
@@ -119,6 +167,36 @@ class ProtocolSession {
   std::string checkpoint_dir_;
   bool dem_dead_ = false, servo_dead_ = false;  ///< found dead: no more calls to it
   std::uint64_t timeouts_at_start_ = 0;         ///< dem_node's lockstep timeouts before the test
+  // checkpoints inside a stage
+  std::string run_checkpoint_, scene_text_, protocol_path_;
+  std::optional<protocol::CheckpointSchedule> schedule_;  ///< none: checkpoints off
+  protocol::SpecimenAtStart specimen_;                   ///< the running stage's, at its start
+  std::chrono::steady_clock::time_point t_start_;
+  double wall_before_ = 0.0;                 ///< a resumed test's wall time before the resume [s]
+  std::int64_t timeouts_before_ = 0;          ///< a resumed test's lockstep timeouts before the resume
+  int checkpoints_written_ = 0;
 };
+
+template <class Srv>
+void ProtocolSession::call(const std::string& name, Srv& srv) {
+  ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
+  if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
+    throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
+  // A failed call is a transport failure (the servers answer refusals with
+  // success = false); every request the session makes is idempotent, so it
+  // is retried a few times before the test is given up.
+  bool called = false;
+  for (int attempt = 0; attempt < 5 && !called; ++attempt) {
+    if (attempt > 0) {
+      ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), attempt);
+      ::ros::WallDuration(0.2).sleep();
+    }
+    called = c.call(srv);
+  }
+  if (!called) throw RigError(name + ": call failed (5 attempts)");
+  if constexpr (!std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
+    if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);
+  }
+}
 
 }  // namespace vt::ros

@@ -16,6 +16,9 @@
 //             our first command (axis_arbiter.h), so the protocol node sets
 //             that to the first rate before enabling
 //   disable   (std_srvs/Trigger)   releases the axis (open loop at rate 0)
+//   get_memory / set_memory (GetMemory.srv / SetMemory.srv)  the strategy's
+//             memory (control::RateStrategy::memory()) for a rig checkpoint
+//             and its resume; set_memory only while enabled
 //
 // Wiring (relative to the node's namespace, i.e. the rig's): subscribes
 // `moment_index`, publishes `cell_command` (latched, like the servo's) and
@@ -39,6 +42,8 @@
 #include <std_srvs/Trigger.h>
 
 #include "virtual_triaxial/ConfigureRate.h"
+#include "virtual_triaxial/GetMemory.h"
+#include "virtual_triaxial/SetMemory.h"
 #include "virtual_triaxial/MomentIndex.h"
 #include "virtual_triaxial/control/rate_strategy.h"
 #include "virtual_triaxial/ros/inline_callback_queue.h"
@@ -56,6 +61,8 @@ class RateControllerNode {
   bool on_configure(virtual_triaxial::ConfigureRate::Request& rq, virtual_triaxial::ConfigureRate::Response& rs);
   bool on_enable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
   bool on_disable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+  bool on_get_memory(virtual_triaxial::GetMemory::Request& rq, virtual_triaxial::GetMemory::Response& rs);
+  bool on_set_memory(virtual_triaxial::SetMemory::Request& rq, virtual_triaxial::SetMemory::Response& rs);
   std::string release();
 
   ::ros::NodeHandle nh_, pnh_;

@@ -41,7 +41,9 @@
 // controlled axis, ramp in simulation seconds), set_axis_targets (per-axis
 // targets, ramp), set_axes (change the controlled axes: release, then claim
 // the new set when enabled), enable (claim + start), disable (stop +
-// release_axes).
+// release_axes), get_memory / set_memory (GetMemory.srv / SetMemory.srv: the
+// strategy's memory, e.g. the PID's integral, for a rig checkpoint and its
+// resume; set_memory only while enabled and claimed).
 // Refusals name the field.
 //
 // Live tuning (dynamic_reconfigure, cfg/Servo.cfg), in the private namespace:
@@ -72,7 +74,9 @@
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 
+#include "virtual_triaxial/GetMemory.h"
 #include "virtual_triaxial/ServoConfig.h"
+#include "virtual_triaxial/SetMemory.h"
 #include "virtual_triaxial/SetAxisTargets.h"
 #include "virtual_triaxial/SetConfiningPressure.h"
 #include "virtual_triaxial/SetServoAxes.h"
@@ -111,6 +115,8 @@ class ServoControllerNode {
   bool on_set_axes(virtual_triaxial::SetServoAxes::Request& rq, virtual_triaxial::SetServoAxes::Response& rs);
   bool on_enable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
   bool on_disable(std_srvs::Trigger::Request& rq, std_srvs::Trigger::Response& rs);
+  bool on_get_memory(virtual_triaxial::GetMemory::Request& rq, virtual_triaxial::GetMemory::Response& rs);
+  bool on_set_memory(virtual_triaxial::SetMemory::Request& rq, virtual_triaxial::SetMemory::Response& rs);
   bool controls(int axis) const { return mask_[axis]; }
 
   ::ros::NodeHandle nh_, pnh_;

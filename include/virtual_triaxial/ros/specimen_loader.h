@@ -43,6 +43,10 @@ class SpecimenLoader {
   /// Throws std::runtime_error / std::invalid_argument with a message that
   /// names the file and field.
   Specimen load_sample(const std::string& path) const;
+  /// A checkpoint of a test that goes on (io/checkpoint_file.h is a sample
+  /// file): its state exactly, strain reference and settings included (the
+  /// overrides were applied when the test started).
+  Specimen load_checkpoint(const std::string& path) const;
   Specimen load_scene(const std::string& path) const;
 
  private:

@@ -60,6 +60,14 @@
 // <output_dir>/checkpoints/after_<i>_<stage>.h5, from which a test continues
 // bit for bit (e.g. a protocol whose particles.sample_file is that file). The rig is left
 // paused with every axis open loop at rate 0.
+// Inside a stage, on a sample tick when a checkpoint is due
+// (protocol/checkpoint_schedule.h, output.checkpoint_ticks / _seconds), the
+// tick is held like a stage's last one: pause, answer, then the checkpoint
+// <output_dir>/results.h5.checkpoint.h5 (protocol_session_checkpoint.cpp),
+// then resume. A goal with `resume` (a checkpoint) continues that test
+// (run_triaxial.sh --resume): dem_node loads the checkpoint's state and
+// tick, the finished stages are skipped, judge and controllers get their
+// memories back, results.h5 is re-opened at the checkpoint's sample count.
 // Bad goals (no or two protocols, a protocol that fails validation, a
 // control.interval that differs from dem_node's publish_every) are refused
 // with the field named; the node keeps serving. One test at a time: a goal

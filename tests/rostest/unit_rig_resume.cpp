@@ -1,0 +1,161 @@
+// Resume of a killed rig test (launch_equiv_scripts/run_triaxial.sh --resume,
+// protocol_session_checkpoint.cpp) on tests/data/protocols/rig_resume.yaml
+// (200 spheres, PID servo, the adaptive rate of the rate controller node, a
+// checkpoint every 200 control ticks):
+//   1. the test run uninterrupted;
+//   2. the same test, kill -9 of the rig process (the nodelet manager) in the
+//      shear once a checkpoint of the shear is on disk (and the rig has gone
+//      on past it): the script exits 3, the checkpoint stays;
+//   3. run_triaxial.sh --resume on the killed run's folder: exit 0, and
+//      - summary.json equals the uninterrupted run's but for the wall time,
+//      - every sample of results.h5 and every summary attribute (but the
+//        wall time) equal the uninterrupted run's bit for bit,
+//      - the killed run's bag is kept, reindexed (rig_0.bag, no .active),
+//        the resumed run's bag (rig_r1_0.bag) starts at the checkpoint's
+//        tick + 1, and together they hold every tick of the uninterrupted
+//        run with the same stress message (bits of p, q, time, stress),
+//      - the finished test leaves no checkpoint.
+#include <cstring>
+#include <map>
+#include <regex>
+
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include "support/script_run.h"
+#include "virtual_triaxial/Stress.h"
+#include "virtual_triaxial/io/checkpoint_file.h"
+#include "virtual_triaxial/io/results_file.h"
+
+namespace {
+using namespace vt::test;
+
+constexpr double kRunBound = 240.0;  // start, consolidation, shear, stop; busy machine
+const char* kProtocol = "tests/data/protocols/rig_resume.yaml";
+const char* kEnv = "PLOTS=0 SNAPSHOTS=0";
+
+/// summary.json without the wall time and the results file's path (the test's folder).
+std::string summary_without_wall(const fs::path& p) {
+  std::string s = slurp(p);
+  s = std::regex_replace(s, std::regex("\"wall_seconds\":[^,}]*,?"), "");
+  return std::regex_replace(s, std::regex("\"results\":\"[^\"]*\""), "");
+}
+
+std::vector<std::uint64_t> bits(const std::vector<double>& v) {
+  std::vector<std::uint64_t> b(v.size());
+  std::memcpy(b.data(), v.data(), v.size() * sizeof(double));
+  return b;
+}
+
+/// Every number of a sample, as bits.
+std::vector<std::uint64_t> bits(const vt::dem::Measures& m) {
+  std::vector<double> v = {m.time, m.p, m.q, m.phi, m.volumetric_strain, m.volume, m.void_ratio, m.ufr, m.iuf,
+                           m.moment_index, m.inertia_index, m.coordination_number, m.raw_coordination_number,
+                           m.idle_mass_fraction, m.max_overlap_ratio, m.energy.boundary_work, m.energy.damping,
+                           m.energy.friction, m.energy.kinetic_translational, m.energy.kinetic_rotational,
+                           m.energy.elastic, static_cast<double>(m.step), static_cast<double>(m.contacts)};
+  for (int i = 0; i < 3; ++i) {
+    v.push_back(m.strain[i]);
+    for (int j = 0; j < 3; ++j) v.push_back(m.stress(i, j));
+  }
+  return bits(v);
+}
+
+/// tick -> the bits of its /stress message (time, p, q, the tensor), from bags in order (later ones win).
+std::map<std::uint64_t, std::vector<std::uint64_t>> stress_by_tick(const std::vector<fs::path>& bags) {
+  std::map<std::uint64_t, std::vector<std::uint64_t>> out;
+  for (const fs::path& p : bags) {
+    rosbag::Bag bag(p.string(), rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{"/stress"}));
+    for (const rosbag::MessageInstance& mi : view) {
+      const auto s = mi.instantiate<virtual_triaxial::Stress>();
+      if (!s) continue;
+      std::vector<double> v = {s->time, s->p, s->q};
+      v.insert(v.end(), s->stress.begin(), s->stress.end());
+      out[s->tick] = bits(v);
+    }
+  }
+  return out;
+}
+
+std::uint64_t first_tick(const fs::path& bag) {
+  const auto m = stress_by_tick({bag});
+  return m.empty() ? 0 : m.begin()->first;
+}
+
+TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
+  ScriptRun whole("resume_whole", kEnv, kProtocol);
+  ASSERT_GE(whole.wait_exit(kRunBound), 0) << whole.log();
+  ASSERT_EQ(whole.code(), 0) << whole.log();
+  EXPECT_FALSE(fs::exists(whole.out() / "results.h5.checkpoint.h5")) << "a finished test leaves no checkpoint";
+
+  ScriptRun cut("resume_cut", kEnv, kProtocol);
+  const fs::path checkpoint = cut.out() / "results.h5.checkpoint.h5";
+  ASSERT_TRUE(cut.wait_for_log("[rig] running", kRunBound)) << cut.log();
+  // Wait for a checkpoint inside the shear, then for the rig to go on past it.
+  vt::io::CheckpointFile c;
+  const auto t0 = Clock::now();
+  while (true) {
+    ASSERT_LT(seconds_since(t0), kRunBound) << "no checkpoint in the shear\n" << cut.log();
+    ASSERT_FALSE(cut.exited()) << "the test ended before a checkpoint in the shear\n" << cut.log();
+    if (fs::exists(checkpoint)) {
+      c = vt::io::read_checkpoint(checkpoint.string());
+      if (c.run.stage_index == 1) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const int rig = cut.find("__name:=rig_manager");
+  ASSERT_GT(rig, 0) << cut.log();
+  ASSERT_EQ(::kill(rig, SIGKILL), 0);
+  ASSERT_GE(cut.wait_exit(kRunBound), 0) << cut.log();
+  EXPECT_EQ(cut.code(), 3) << cut.log();
+  ASSERT_TRUE(fs::exists(checkpoint)) << "the killed test keeps its checkpoint";
+  c = vt::io::read_checkpoint(checkpoint.string());  // the last one (maybe later than the one seen)
+  ASSERT_EQ(c.run.stage_index, 1u);
+  ASSERT_GT(c.run.rig_tick, 0u);
+  EXPECT_EQ(c.run.servo_memory.size(), 10u) << "the PID servo's memory";
+  EXPECT_EQ(c.run.rate_controller_memory.size(), 3u) << "the adaptive rate controller's memory";
+  EXPECT_TRUE(fs::exists(cut.out() / "rig_0.bag.active")) << "killed: the bag is left open";
+  const std::size_t killed_rows = vt::io::read_results_series((cut.out() / "results.h5").string()).size();
+
+  ScriptRun resumed("resume_again", kEnv, "--resume " + cut.out().string());
+  ASSERT_GE(resumed.wait_exit(kRunBound), 0) << resumed.log();
+  ASSERT_EQ(resumed.code(), 0) << resumed.log();
+  EXPECT_FALSE(fs::exists(checkpoint)) << "the finished test leaves no checkpoint";
+
+  EXPECT_EQ(summary_without_wall(cut.out() / "summary.json"), summary_without_wall(whole.out() / "summary.json"));
+  const std::string a = (whole.out() / "results.h5").string(), b = (cut.out() / "results.h5").string();
+  const auto sa = vt::io::read_results_series(a), sb = vt::io::read_results_series(b);
+  ASSERT_EQ(sa.size(), sb.size());
+  ASSERT_GT(sb.size(), killed_rows) << "the resume added samples";
+  for (std::size_t i = 0; i < sa.size(); ++i) ASSERT_EQ(bits(sa[i]), bits(sb[i])) << "sample " << i;
+  auto na = vt::io::read_summary_numbers(a), nb = vt::io::read_summary_numbers(b);
+  na.erase("wall_seconds");
+  nb.erase("wall_seconds");
+  EXPECT_EQ(na, nb);
+  EXPECT_EQ(vt::io::read_summary_texts(a), vt::io::read_summary_texts(b));
+
+  // The bags: the killed run's kept and reindexed, the resumed one continuing its ticks.
+  EXPECT_FALSE(fs::exists(cut.out() / "rig_0.bag.active"));
+  ASSERT_TRUE(fs::exists(cut.out() / "rig_0.bag")) << resumed.log();
+  ASSERT_TRUE(fs::exists(cut.out() / "rig_r1_0.bag")) << resumed.log();
+  EXPECT_EQ(first_tick(cut.out() / "rig_r1_0.bag"), c.run.rig_tick + 1);
+  const auto ta = stress_by_tick({whole.out() / "rig_0.bag"});
+  const auto old_ticks = stress_by_tick({cut.out() / "rig_0.bag"});
+  EXPECT_GE(old_ticks.rbegin()->first, c.run.rig_tick) << "the killed bag holds the ticks up to the checkpoint";
+  const auto tb = stress_by_tick({cut.out() / "rig_0.bag", cut.out() / "rig_r1_0.bag"});
+  ASSERT_EQ(ta.size(), tb.size());
+  for (const auto& [tick, v] : ta) {
+    const auto it = tb.find(tick);
+    ASSERT_NE(it, tb.end()) << "tick " << tick << " is in no bag of the resumed test";
+    ASSERT_EQ(it->second, v) << "tick " << tick;
+  }
+  std::printf("[ measured ] killed at tick >= %llu (checkpoint), %zu of %zu samples kept; whole run %zu ticks\n",
+              static_cast<unsigned long long>(c.run.rig_tick), static_cast<std::size_t>(c.results_rows), sa.size(),
+              ta.size());
+  EXPECT_TRUE(cut.left_behind().empty());
+}
+
+}  // namespace
