@@ -310,7 +310,7 @@ class PyServoController:
             st.header = msg.header
             st.tick = tick
             st.enabled = self.enabled
-            st.targets = targets
+            st.targets = [targets[i] if i in self.axes else 0.0 for i in range(3)]  # 0 on uncontrolled axes
             st.errors = errors
             st.saturated = sat
             st.strain_rate = rates

@@ -147,6 +147,8 @@ class BagRecorderNodelet : public nodelet::Nodelet {
       if (!(split_mb > 0.0)) throw std::invalid_argument("~split_mb: must be > 0");
       recorder_ = std::make_unique<vt::ros::BagRecorder>(
           nh, prefix, static_cast<std::uint64_t>(split_mb * 1024.0 * 1024.0), true);
+      pnh.setCallbackQueue(&queue_);
+      recorder_->advertise_split(pnh);
     });
     // Polls instead of waiting on the queue: a thread asleep on the queue
     // costs the publisher a wake-up call per message, and the recorder has

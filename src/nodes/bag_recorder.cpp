@@ -42,6 +42,8 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   try {
     vt::ros::BagRecorder rec(nh, prefix, static_cast<std::uint64_t>(split_mb * 1024.0 * 1024.0));
+    ros::NodeHandle pnh("~");
+    rec.advertise_split(pnh);
     ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
     while (!g_stop && ros::ok()) queue->callAvailable(ros::WallDuration(0.1));
     while (!queue->isEmpty()) queue->callAvailable(ros::WallDuration(0));  // drain

@@ -41,6 +41,30 @@ BagRecorder::BagRecorder(const ::ros::NodeHandle& nh, std::string prefix, std::u
 
 BagRecorder::~BagRecorder() { close_current(); }
 
+void BagRecorder::advertise_split(::ros::NodeHandle& pnh) {
+  split_srv_ = pnh.advertiseService<std_srvs::Trigger::Request, std_srvs::Trigger::Response>(
+      "split", [this](std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
+        rs.success = !failed_ && bag_ != nullptr;
+        if (!rs.success) {
+          rs.message = "not recording (a write failed)";
+          return true;
+        }
+        const std::string closed = path_;
+        try {
+          close_current();
+          open_next();
+        } catch (const std::exception& e) {
+          failed_ = true;
+          rs.success = false;
+          rs.message = std::string("split: ") + e.what() + "; recording stopped";
+          ROS_ERROR("bag_recorder: %s", rs.message.c_str());
+          return true;
+        }
+        rs.message = "closed " + closed + " after " + std::to_string(messages_) + " messages; now " + path_ + ".active";
+        return true;
+      });
+}
+
 void BagRecorder::poll_topics() {
   ::ros::master::V_TopicInfo topics;
   if (!::ros::master::getTopics(topics)) return;

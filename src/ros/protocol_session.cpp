@@ -421,10 +421,6 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
       judge.record(measures, judged->decision);
     }
     ++report.ticks;
-    if (hold) {
-      take_checkpoint(index, steps, judge, report, recorder);
-      trigger("resume");
-    }
 
     status.header = m.stress->header;
     status.tick = tick_;
@@ -460,6 +456,10 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
                ts.p / 1e3, ts.q / 1e3, status.e, status.moment_index, rate);
       t_progress = Clock::now();
       tick_progress = tick_;
+    }
+    if (hold) {  // after this tick's status (in the bag before its split)
+      take_checkpoint(index, steps, judge, report, recorder);
+      trigger("resume");
     }
     if (last) break;
   }

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <thread>
 
+#include <std_srvs/Trigger.h>
+
 #include "virtual_triaxial/GetMemory.h"
 #include "virtual_triaxial/SaveSample.h"
 #include "virtual_triaxial/SetMemory.h"
@@ -83,6 +85,17 @@ void ProtocolSession::take_checkpoint(std::size_t index, std::int64_t stage_step
     c.rig_tick = tick_;
     c.lockstep_timeouts =
         timeouts_before_ + static_cast<std::int64_t>(info.response.lockstep_timeouts - timeouts_at_start_);
+    // Everything recorded up to this tick into a closed bag (a killed
+    // recorder loses the chunk it holds in memory; the resumed run records
+    // only the ticks after the checkpoint).
+    if (const std::string split = nh_.resolveName(bag_recorder_ + "/split"); ::ros::service::exists(split, false)) {
+      std_srvs::Trigger t;
+      try {
+        call(split, t);
+      } catch (const RigError& e) {  // the recording is the recorder's business, not the test's
+        ROS_WARN("test_protocol_node: checkpoint: %s", e.what());
+      }
+    }
     // dem_node's state, through a sample file beside the checkpoint.
     const std::string state_file = run_checkpoint_ + ".state.h5";
     virtual_triaxial::SaveSample save;

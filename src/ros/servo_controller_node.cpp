@@ -304,7 +304,7 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
   for (int i = 0; i < 3; ++i) {
     const auto k = static_cast<std::size_t>(i);
     st.controlled[k] = controls(i);
-    st.targets[k] = targets[i];
+    st.targets[k] = controls(i) ? targets[i] : 0.0;  // an earlier stage's target of an axis let go is no state
     st.errors[k] = out.error[i];
     st.saturated[k] = out.saturated[i];
     st.strain_rate[k] = out.strain_rate[i];

@@ -33,6 +33,7 @@ TestProtocolNode::TestProtocolNode(const ::ros::NodeHandle& nh, const ::ros::Nod
   pnh_.param<std::string>("output_dir", output_dir_, "protocol_output");
   pnh_.param<std::string>("servo", servo_, "servo");
   pnh_.param<std::string>("rate_controller", rate_controller_, "rate_controller");
+  pnh_.param<std::string>("bag_recorder", bag_recorder_, "bag_recorder");
   tick_timeout_ = optional_double(pnh_, "tick_timeout").value_or(30.0);
   rig_timeout_ = optional_double(pnh_, "rig_timeout").value_or(20.0);
   if (!(tick_timeout_ > 0)) throw std::invalid_argument("~tick_timeout: must be > 0 s");
@@ -302,6 +303,7 @@ void TestProtocolNode::execute(GoalHandle gh) {
   tick_queue_.clear();
   ProtocolSession session(nh_, servo_, pnh_.getNamespace(), rig_timeout_);
   session.set_rate_controller(rate_controller_);
+  session.set_bag_recorder(bag_recorder_);
   {
     std::error_code ec;
     fs::create_directories(dir / "checkpoints", ec);

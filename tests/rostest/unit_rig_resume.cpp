@@ -10,11 +10,14 @@
 //      - summary.json equals the uninterrupted run's but for the wall time,
 //      - every sample of results.h5 and every summary attribute (but the
 //        wall time) equal the uninterrupted run's bit for bit,
-//      - the killed run's bag is kept, reindexed (rig_0.bag, no .active),
-//        the resumed run's bag (rig_r1_0.bag) starts at the checkpoint's
-//        tick + 1, and together they hold every tick of the uninterrupted
-//        run with the same stress message (bits of p, q, time, stress),
+//      - the killed run's bags are kept (closed at every checkpoint, the last
+//        one reindexed: no .active left) and hold every tick up to the
+//        checkpoint; the resumed run's bags (rig_r1_*.bag) start at the
+//        checkpoint's tick + 1, and together they hold every tick of the uninterrupted
+//        run with the same stress message (bits of p, q, time, stress), and
+//        bag_report.py's table of every rig topic by tick is the same,
 //      - the finished test leaves no checkpoint.
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <regex>
@@ -79,9 +82,18 @@ std::map<std::uint64_t, std::vector<std::uint64_t>> stress_by_tick(const std::ve
   return out;
 }
 
-std::uint64_t first_tick(const fs::path& bag) {
-  const auto m = stress_by_tick({bag});
-  return m.empty() ? 0 : m.begin()->first;
+/// <dir>/<prefix>_<k>.bag for k = 0, 1, ... (the split files of one recording, in order).
+std::vector<fs::path> bag_files(const fs::path& dir, const std::string& prefix) {
+  std::vector<fs::path> out;
+  for (int k = 0; fs::exists(dir / (prefix + "_" + std::to_string(k) + ".bag")); ++k)
+    out.push_back(dir / (prefix + "_" + std::to_string(k) + ".bag"));
+  return out;
+}
+
+std::string joined(const std::vector<fs::path>& files) {
+  std::string s;
+  for (const fs::path& f : files) s += " '" + f.string() + "'";
+  return s;
 }
 
 TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
@@ -117,7 +129,7 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
   ASSERT_GT(c.run.rig_tick, 0u);
   EXPECT_EQ(c.run.servo_memory.size(), 10u) << "the PID servo's memory";
   EXPECT_EQ(c.run.rate_controller_memory.size(), 3u) << "the adaptive rate controller's memory";
-  EXPECT_TRUE(fs::exists(cut.out() / "rig_0.bag.active")) << "killed: the bag is left open";
+  EXPECT_FALSE(bag_files(cut.out(), "rig").empty()) << "the bags closed at the checkpoints";
   const std::size_t killed_rows = vt::io::read_results_series((cut.out() / "results.h5").string()).size();
 
   ScriptRun resumed("resume_again", kEnv, "--resume " + cut.out().string());
@@ -137,25 +149,47 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
   EXPECT_EQ(na, nb);
   EXPECT_EQ(vt::io::read_summary_texts(a), vt::io::read_summary_texts(b));
 
-  // The bags: the killed run's kept and reindexed, the resumed one continuing its ticks.
+  // The bags: the killed run's kept (closed at every checkpoint, the open
+  // one reindexed), the resumed one continuing its ticks.
   EXPECT_FALSE(fs::exists(cut.out() / "rig_0.bag.active"));
-  ASSERT_TRUE(fs::exists(cut.out() / "rig_0.bag")) << resumed.log();
-  ASSERT_TRUE(fs::exists(cut.out() / "rig_r1_0.bag")) << resumed.log();
-  EXPECT_EQ(first_tick(cut.out() / "rig_r1_0.bag"), c.run.rig_tick + 1);
-  const auto ta = stress_by_tick({whole.out() / "rig_0.bag"});
-  const auto old_ticks = stress_by_tick({cut.out() / "rig_0.bag"});
-  EXPECT_GE(old_ticks.rbegin()->first, c.run.rig_tick) << "the killed bag holds the ticks up to the checkpoint";
-  const auto tb = stress_by_tick({cut.out() / "rig_0.bag", cut.out() / "rig_r1_0.bag"});
+  const std::vector<fs::path> old_bags = bag_files(cut.out(), "rig"), new_bags = bag_files(cut.out(), "rig_r1");
+  ASSERT_GE(old_bags.size(), 2u) << "a closed bag per checkpoint, and the reindexed last one\n" << resumed.log();
+  ASSERT_FALSE(new_bags.empty()) << resumed.log();
+  for (const auto& f : fs::directory_iterator(cut.out()))
+    EXPECT_EQ(f.path().string().find(".active"), std::string::npos) << f.path() << " left open";
+  const auto ta = stress_by_tick(bag_files(whole.out(), "rig"));
+  const auto old_ticks = stress_by_tick(old_bags), new_ticks = stress_by_tick(new_bags);
+  ASSERT_FALSE(old_ticks.empty());
+  ASSERT_FALSE(new_ticks.empty());
+  EXPECT_EQ(new_ticks.begin()->first, c.run.rig_tick + 1) << "the resumed bag continues the tick numbering";
+  // Every tick up to the checkpoint is in the killed run's bags.
+  for (std::uint64_t t = 1; t <= c.run.rig_tick; ++t) ASSERT_TRUE(old_ticks.count(t)) << "tick " << t << " lost";
+  std::vector<fs::path> all = old_bags;
+  all.insert(all.end(), new_bags.begin(), new_bags.end());
+  const auto tb = stress_by_tick(all);
   ASSERT_EQ(ta.size(), tb.size());
   for (const auto& [tick, v] : ta) {
     const auto it = tb.find(tick);
     ASSERT_NE(it, tb.end()) << "tick " << tick << " is in no bag of the resumed test";
     ASSERT_EQ(it->second, v) << "tick " << tick;
   }
+  // Every rig topic, joined by tick (bag_report.py, the tool run_triaxial.sh
+  // runs on rig*.bag): the resumed test's two bags give the uninterrupted
+  // run's table byte for byte (numbers printed to round-trip precision).
+  const std::string report = "cd '" VT_SOURCE_DIR "' && /usr/bin/python3 scripts/bag_report.py --csv-only ";
+  ASSERT_EQ(std::system((report + joined(bag_files(whole.out(), "rig")) + " --out '" + (whole.out() / "csv").string() +
+                         "' > /dev/null 2>&1").c_str()), 0);
+  ASSERT_EQ(std::system((report + joined(all) + " --out '" + (cut.out() / "csv").string() + "' > /dev/null 2>&1").c_str()),
+            0);
+  const std::string csv_a = slurp(whole.out() / "csv/rig_series.csv"), csv_b = slurp(cut.out() / "csv/rig_series.csv");
+  EXPECT_GT(csv_a.size(), 1000u);
+  EXPECT_TRUE(csv_a == csv_b) << "rig_series.csv of the resumed test differs from the uninterrupted one's";
   std::printf("[ measured ] killed at tick >= %llu (checkpoint), %zu of %zu samples kept; whole run %zu ticks\n",
               static_cast<unsigned long long>(c.run.rig_tick), static_cast<std::size_t>(c.results_rows), sa.size(),
               ta.size());
   EXPECT_TRUE(cut.left_behind().empty());
+  if (!::testing::Test::HasFailure())
+    for (const ScriptRun* r : {&whole, &cut, &resumed}) r->remove_outputs();
 }
 
 }  // namespace

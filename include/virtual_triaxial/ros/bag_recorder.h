@@ -24,6 +24,12 @@
 // Files: <prefix>_<k>.bag, k = 0, 1, ...; a new file starts when the current
 // one exceeds split_bytes. A file is written as <name>.active and renamed
 // when closed (on shutdown: SIGINT), as rosbag does.
+// Service ~split (std_srvs/Trigger, advertise_split()): close the current
+// file now and go on in the next one, so that everything received so far is
+// in a closed, indexed bag. test_protocol_node calls it at every checkpoint
+// of a test (dem_node paused): a kill -9 afterwards loses no tick up to the
+// checkpoint (a rosbag file keeps its last chunk in memory until it is
+// closed), and `run_triaxial.sh --resume` records the ticks after it.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +38,7 @@
 #include <string>
 
 #include <ros/ros.h>
+#include <std_srvs/Trigger.h>
 #include <rosbag/bag.h>
 #include <topic_tools/shape_shifter.h>
 
@@ -49,6 +56,9 @@ class BagRecorder {
   BagRecorder(const BagRecorder&) = delete;
   BagRecorder& operator=(const BagRecorder&) = delete;
 
+  /// Advertises ~split on `pnh` (the node's private handle, on the queue that
+  /// delivers the messages, so a split follows the messages queued before it).
+  void advertise_split(::ros::NodeHandle& pnh);
   std::uint64_t messages() const { return messages_; }
   std::size_t topics() const { return subs_.size(); }
   int files() const { return file_index_ + (bag_ ? 1 : 0); }
@@ -74,6 +84,7 @@ class BagRecorder {
   std::uint64_t messages_ = 0;
   bool failed_ = false;   ///< a write failed (full disk): recording stopped
   ::ros::WallTimer poll_timer_;
+  ::ros::ServiceServer split_srv_;
 };
 
 }  // namespace vt::ros

@@ -105,6 +105,8 @@ class ProtocolSession {
   /// Name of the rate controller node (rate_controller_node.h) that commands
   /// the axial rate of stages with a `predicted` or `adaptive` rate strategy.
   void set_rate_controller(std::string name) { rate_controller_ = std::move(name); }
+  /// Name of the rig's bag recorder: its ~split at every checkpoint (none running: nothing).
+  void set_bag_recorder(std::string name) { bag_recorder_ = std::move(name); }
   /// Folder for the per-stage checkpoints after_<i>_<stage>.h5 ("" = none).
   void set_checkpoint_dir(std::string dir) { checkpoint_dir_ = std::move(dir); }
   /// Specimen facts for the summary (valid after run()).
@@ -169,6 +171,7 @@ class ProtocolSession {
   std::uint64_t timeouts_at_start_ = 0;         ///< dem_node's lockstep timeouts before the test
   // checkpoints inside a stage
   std::string run_checkpoint_, scene_text_, protocol_path_;
+  std::string bag_recorder_ = "bag_recorder";
   std::optional<protocol::CheckpointSchedule> schedule_;  ///< none: checkpoints off
   protocol::SpecimenAtStart specimen_;                   ///< the running stage's, at its start
   std::chrono::steady_clock::time_point t_start_;

@@ -16,6 +16,8 @@
 //                           (rate_controller_node.h) that commands the axial
 //                           rate of stages with rate.strategy predicted or
 //                           adaptive (its ~configure, ~enable, ~disable)
+//   bag_recorder "bag_recorder"  name of the rig's recorder (ros/bag_recorder.h):
+//                           its ~split is called at every checkpoint (none: skipped)
 //   tick_timeout  30.0      wall seconds to wait for the state of the next tick
 //                           before asking dem_node whether it failed
 //   rig_timeout   20.0      wall seconds to wait for dem_node / servo services
@@ -128,7 +130,7 @@ class TestProtocolNode {
   ::ros::NodeHandle tick_nh_;         ///< nh_ on inline_queue_ (state subscriptions)
   ::ros::CallbackQueue tick_queue_;   ///< fallback of inline_queue_; spun by the executing test
   InlineCallbackQueue inline_queue_{tick_queue_, nullptr};
-  std::string output_dir_, servo_, rate_controller_;
+  std::string output_dir_, servo_, rate_controller_, bag_recorder_;
   double tick_timeout_ = 30.0, rig_timeout_ = 20.0;
   /// Ticks judged ahead of the session at most (bounds memory and keeps the
   /// collector's window, 64 ticks, ahead of the session).

@@ -156,6 +156,12 @@ class ScriptRun {
       if (p != pid_ && alive(p)) left.push_back(p);
     return left;
   }
+  /// Removes the output folder and the log (a passed test keeps nothing).
+  void remove_outputs() const {
+    std::error_code ec;
+    fs::remove_all(out_, ec);
+    fs::remove(log_, ec);
+  }
   int pid() const { return pid_; }
   int code() const { return code_; }
   const fs::path& out() const { return out_; }
