@@ -39,8 +39,9 @@
 # (scripts/run_test_client.py, progress printed); supervises every process
 # it started; stops them all at the end; makes the plots. One output folder
 # (${OUT:-output/default}) holds:
-#   rig_*.bag         every rig topic (split at 512 MB)
+#   rig_*.bag         every rig topic (split at 512 MB and at every checkpoint)
 #   results.h5        sample-tick time series + summary attributes
+#   results.h5.checkpoint.h5  the last checkpoint of a running test (--resume; removed at the end)
 #   summary.json      the test summary (also printed last)
 #   plots/            bag_report.py: q-eps_a, eps_v-eps_a, q-p, e-log p,
 #                     I_mom and kinetic energy; rig_series.csv

@@ -106,6 +106,15 @@ class Rig {
   /// Steps one control tick; returns its number once its Stress, ServoState
   /// and CellCommand have arrived (0 on failure).
   std::uint64_t step() {
+    // A state published before our subscriptions connect is lost to us (on
+    // a loaded machine the first step can come before that): wait for them.
+    EXPECT_TRUE(wait_until(
+        [&] {
+          return stress_sub_.getNumPublishers() > 0 && state_sub_.getNumPublishers() > 0 &&
+                 command_sub_.getNumPublishers() > 0;
+        },
+        30.0))
+        << "stress / servo_state / cell_command not connected";
     const std::uint64_t k = info().tick + 1;
     vtm::Step st;
     st.request.count = 1;
