@@ -98,6 +98,12 @@ if [[ "${1:-}" == --resume ]]; then
   protocol="$(/usr/bin/python3 -c 'import h5py, sys; print(h5py.File(sys.argv[1], "r")["checkpoint"].attrs["scene_path"])' "${checkpoint}" 2>/dev/null)" ||
     { echo "[rig] ERROR: --resume: ${checkpoint}: not a readable checkpoint" >&2; exit 2; }
   [[ -f "${protocol}" ]] || { echo "[rig] ERROR: --resume: the checkpoint's protocol ${protocol} is gone" >&2; exit 2; }
+  /usr/bin/python3 -c '
+import h5py, sys
+text = h5py.File(sys.argv[1], "r")["checkpoint"].attrs["scene_text"]
+text = text.decode() if isinstance(text, bytes) else text
+sys.exit(0 if open(sys.argv[2]).read() == text else 1)' "${checkpoint}" "${protocol}" ||
+    { echo "[rig] ERROR: --resume: ${protocol}: changed since the checkpoint (the resumed test would not be the test that was run; start it again instead)" >&2; exit 2; }
 else
   protocol="$(realpath "${1:-config/protocols/drained_100kPa_adaptive.yaml}")"
   [[ -f "${protocol}" ]] || { echo "[rig] ERROR: protocol: no such file: ${protocol}" >&2; exit 2; }

@@ -2,7 +2,8 @@
 // protocol_session_checkpoint.cpp) on tests/data/protocols/rig_resume.yaml
 // (200 spheres, PID servo, the adaptive rate of the rate controller node, a
 // checkpoint every 200 control ticks):
-//   1. the test run uninterrupted;
+//   1. the test run uninterrupted (then `--resume` of its folder is refused:
+//      no checkpoint, exit 2);
 //   2. the same test, kill -9 of the rig process (the nodelet manager) in the
 //      shear once a checkpoint of the shear is on disk (and the rig has gone
 //      on past it): the script exits 3, the checkpoint stays;
@@ -101,6 +102,15 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
   ASSERT_GE(whole.wait_exit(kRunBound), 0) << whole.log();
   ASSERT_EQ(whole.code(), 0) << whole.log();
   EXPECT_FALSE(fs::exists(whole.out() / "results.h5.checkpoint.h5")) << "a finished test leaves no checkpoint";
+  {  // so there is nothing to resume: refused at once, naming the file
+    ScriptRun nothing("resume_nothing", kEnv, "--resume " + whole.out().string());
+    ASSERT_GE(nothing.wait_exit(30.0), 0) << nothing.log();
+    EXPECT_EQ(nothing.code(), 2) << nothing.log();
+    EXPECT_NE(nothing.log().find("--resume: no checkpoint " + (whole.out() / "results.h5.checkpoint.h5").string()),
+              std::string::npos)
+        << nothing.log();
+    nothing.remove_outputs();
+  }
 
   ScriptRun cut("resume_cut", kEnv, kProtocol);
   const fs::path checkpoint = cut.out() / "results.h5.checkpoint.h5";
