@@ -55,6 +55,12 @@ std::string check_rate_limits(const SceneConfig& scene, double t0, const RunLimi
       return "stages[" + std::to_string(i) + "]." + (dimensionless ? "strain_rate_dimensionless" : "strain_rate") +
              ": eps' = " + num(std::fabs(eps)) + " is above the limit " + num(max) + " (eps' = eps_dot T0, eq. 31)";
   }
+  for (std::size_t i = 0; i < scene.stages.size(); ++i) {  // the adaptive strategy's ceiling
+    const StageSpec& st = scene.stages[i];
+    if (st.rate_spec.strategy == control::RateStrategyKind::Adaptive && st.rate_spec.adaptive.max_dimensionless > max)
+      return "stages[" + std::to_string(i) + "].rate.max: eps' = " + num(st.rate_spec.adaptive.max_dimensionless) +
+             " is above the limit " + num(max) + " (eps' = eps_dot T0, eq. 31)";
+  }
   if (scene.control.servo.max_dimensionless_rate > max)
     return "control.servo.max_dimensionless_rate: " + num(scene.control.servo.max_dimensionless_rate) +
            " is above the limit " + num(max) + " (eps' = eps_dot T0, eq. 31)";

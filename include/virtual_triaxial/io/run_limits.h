@@ -2,7 +2,8 @@
 // test_protocol_node) check a scene against them before the run starts, so
 // both refuse the same scene with the same one-line message
 // "<dotted.path>: <reason>".
-//   - strain rate: |eps'| = |eps_dot| T0 (eq. 31) of every stage and of the
+//   - strain rate: |eps'| = |eps_dot| T0 (eq. 31) of every stage, the
+//     ceiling of an adaptive rate strategy (rate.max) and the
 //     servo limit (control.servo.max_dimensionless_rate) at most
 //     max_dimensionless_rate, which is also dem_node's
 //     ~max_dimensionless_rate default (the limit on its commands);
