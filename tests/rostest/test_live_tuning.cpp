@@ -110,11 +110,14 @@ class Rig {
     // a loaded machine the first step can come before that): wait for them.
     EXPECT_TRUE(wait_until(
         [&] {
+          // /rosout: this node (intraprocess), dem_node and the servo; a
+          // log line sent before its connection is lost to us as well
           return stress_sub_.getNumPublishers() > 0 && state_sub_.getNumPublishers() > 0 &&
-                 command_sub_.getNumPublishers() > 0;
+                 command_sub_.getNumPublishers() > 0 && rosout_sub_.getNumPublishers() >= 3;
         },
         30.0))
-        << "stress / servo_state / cell_command not connected";
+        << "stress / servo_state / cell_command / rosout not connected (rosout publishers: "
+        << rosout_sub_.getNumPublishers() << ")";
     const std::uint64_t k = info().tick + 1;
     vtm::Step st;
     st.request.count = 1;
