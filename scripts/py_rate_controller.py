@@ -10,7 +10,9 @@ Parameters (private, `~`):
   owner   the node's name; the name used with claim_axes
 
 Services (private): configure (ConfigureRate.srv), enable, disable
-(std_srvs/Trigger), as the C++ node. Wiring: subscribes `moment_index`,
+(std_srvs/Trigger), get_memory / set_memory (GetMemory.srv / SetMemory.srv:
+the law's memory, the same numbers as the C++ node's, for a rig checkpoint
+and `run_triaxial.sh --resume`), as the C++ node. Wiring: subscribes `moment_index`,
 publishes `cell_command` and `rate_state`, calls dem_node's `claim_axes` and
 `release_axes`.
 
@@ -31,7 +33,8 @@ import threading
 import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, MomentIndex, RateState
-from virtual_triaxial.srv import ClaimAxes, ConfigureRate, ConfigureRateResponse, ReleaseAxes
+from virtual_triaxial.srv import (ClaimAxes, ConfigureRate, ConfigureRateResponse, GetMemory, GetMemoryResponse,
+                                  ReleaseAxes, SetMemory, SetMemoryResponse)
 
 NODE = "py_rate_controller"
 
@@ -68,6 +71,14 @@ class HeldRate:
     def update(self, index, threshold):
         return self.rate
 
+    def memory(self):
+        return [self.rate]
+
+    def restore(self, m):
+        if len(m) != 1:
+            raise ValueError("memory: '%s' keeps 1 number, got %d" % (self.name, len(m)))
+        self.rate = m[0]
+
 
 class AdaptiveRate:
     """The law of control/adaptive_rate.h (same expression order)."""
@@ -98,6 +109,14 @@ class AdaptiveRate:
         self.rate = min(max(self.rate * g, self.lo_rate), self.hi_rate)
         return self.rate
 
+    def memory(self):  # as control/adaptive_rate.h memory()
+        return [self.rate, self.smoothed, 1.0 if self.have_index else 0.0]
+
+    def restore(self, m):
+        if len(m) != 3:
+            raise ValueError("memory: 'adaptive' keeps 3 numbers, got %d" % len(m))
+        self.rate, self.smoothed, self.have_index = m[0], m[1], m[2] != 0.0
+
 
 class PyRateController:
     def __init__(self):
@@ -114,6 +133,26 @@ class PyRateController:
         rospy.Service("~configure", ConfigureRate, self.on_configure)
         rospy.Service("~enable", Trigger, self.on_enable)
         rospy.Service("~disable", Trigger, self.on_disable)
+        rospy.Service("~get_memory", GetMemory, self.on_get_memory)
+        rospy.Service("~set_memory", SetMemory, self.on_set_memory)
+
+    def on_get_memory(self, _):
+        with self.lock:
+            if self.law is None:
+                return GetMemoryResponse(True, "not configured (no memory)", "", [])
+            m = self.law.memory()
+            return GetMemoryResponse(True, "%d numbers" % len(m), self.law.name, m)
+
+    def on_set_memory(self, rq):
+        with self.lock:
+            if self.law is None or not self.claimed:
+                return SetMemoryResponse(False, "memory: the rate controller is not running (configure and enable it "
+                                                "first)")
+            try:
+                self.law.restore(list(rq.memory))
+            except ValueError as e:
+                return SetMemoryResponse(False, str(e))
+            return SetMemoryResponse(True, "restored %d numbers" % len(rq.memory))
 
     def on_configure(self, rq):
         with self.lock:

@@ -34,7 +34,9 @@ Services, in the node's PRIVATE namespace (e.g. /servo/enable):
 set_confining_pressure (target for every controlled axis, linear ramp over
 ramp_seconds of SIMULATION time), set_axis_targets, set_axes (change the
 controlled axes; the test protocol node uses it between stages), enable
-(claim + start), disable (release_axes). Refusals name the field.
+(claim + start), disable (release_axes), get_memory / set_memory (the
+law's memory for a rig checkpoint and its resume: none, the proportional
+law keeps no state between updates). Refusals name the field.
 
 Timing: only wall-clock threads and message stamps are used (no rospy.Timer,
 which would follow /clock under use_sim_time and stall while dem_node is
@@ -49,9 +51,9 @@ import warnings
 import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, ServoState, Stress
-from virtual_triaxial.srv import (ClaimAxes, GetInfo, ReleaseAxes, SetAxisTargets, SetAxisTargetsResponse,
-                                  SetConfiningPressure, SetConfiningPressureResponse, SetServoAxes,
-                                  SetServoAxesResponse)
+from virtual_triaxial.srv import (ClaimAxes, GetInfo, GetMemory, GetMemoryResponse, ReleaseAxes, SetAxisTargets,
+                                  SetAxisTargetsResponse, SetConfiningPressure, SetConfiningPressureResponse,
+                                  SetMemory, SetMemoryResponse, SetServoAxes, SetServoAxesResponse)
 
 NODE = "py_servo_controller"
 
@@ -177,6 +179,8 @@ class PyServoController:
             rospy.Service("~set_axes", SetServoAxes, self.on_set_axes),
             rospy.Service("~enable", Trigger, self.on_enable),
             rospy.Service("~disable", Trigger, self.on_disable),
+            rospy.Service("~get_memory", GetMemory, self.on_get_memory),
+            rospy.Service("~set_memory", SetMemory, self.on_set_memory),
         ]
         # reused message objects (publish() serialises at once in synchronous mode)
         self.cmd = CellCommand()
@@ -390,6 +394,19 @@ class PyServoController:
             if not why:
                 return TriggerResponse(True, "enabled; axes %s claimed" % axes_text(self.axes))
             return TriggerResponse(True, "enabled; not claimed yet (%s), retrying" % why)
+
+    def on_get_memory(self, _):
+        """The proportional law keeps no state between updates: no numbers."""
+        return GetMemoryResponse(True, "the proportional law keeps no memory", "proportional", [])
+
+    def on_set_memory(self, rq):
+        with self.lock:
+            if not self.enabled or not self.claimed:
+                return SetMemoryResponse(False, "memory: the servo is not running (enable it first; axes claimed)")
+            if len(rq.memory) != 0:
+                return SetMemoryResponse(False, "memory: the proportional law keeps no numbers, got %d" %
+                                         len(rq.memory))
+            return SetMemoryResponse(True, "restored 0 numbers")
 
     def on_disable(self, _rq):
         with self.lock:

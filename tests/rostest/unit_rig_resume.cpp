@@ -2,6 +2,8 @@
 // protocol_session_checkpoint.cpp) on tests/data/protocols/rig_resume.yaml
 // (200 spheres, PID servo, the adaptive rate of the rate controller node, a
 // checkpoint every 200 control ticks):
+// with the C++ controllers (nodelets; the Python ones resume the same way:
+// checked by hand, not here, to keep the suite short):
 //   1. the test run uninterrupted (then `--resume` of its folder is refused:
 //      no checkpoint, exit 2);
 //   2. the same test, kill -9 of the rig process (the nodelet manager) in the
@@ -97,13 +99,16 @@ std::string joined(const std::vector<fs::path>& files) {
   return s;
 }
 
-TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
-  ScriptRun whole("resume_whole", kEnv, kProtocol);
+/// Uninterrupted vs killed + resumed, on `protocol` with the script's extra
+/// `env`; the checkpoint holds `servo_numbers` of servo memory.
+void expect_resume_equals_uninterrupted(const std::string& tag, const std::string& env, const std::string& protocol,
+                                        std::size_t servo_numbers) {
+  ScriptRun whole(tag + "_whole", env, protocol);
   ASSERT_GE(whole.wait_exit(kRunBound), 0) << whole.log();
   ASSERT_EQ(whole.code(), 0) << whole.log();
   EXPECT_FALSE(fs::exists(whole.out() / "results.h5.checkpoint.h5")) << "a finished test leaves no checkpoint";
   {  // so there is nothing to resume: refused at once, naming the file
-    ScriptRun nothing("resume_nothing", kEnv, "--resume " + whole.out().string());
+    ScriptRun nothing(tag + "_nothing", env, "--resume " + whole.out().string());
     ASSERT_GE(nothing.wait_exit(30.0), 0) << nothing.log();
     EXPECT_EQ(nothing.code(), 2) << nothing.log();
     EXPECT_NE(nothing.log().find("--resume: no checkpoint " + (whole.out() / "results.h5.checkpoint.h5").string()),
@@ -112,7 +117,7 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
     nothing.remove_outputs();
   }
 
-  ScriptRun cut("resume_cut", kEnv, kProtocol);
+  ScriptRun cut(tag + "_cut", env, protocol);
   const fs::path checkpoint = cut.out() / "results.h5.checkpoint.h5";
   ASSERT_TRUE(cut.wait_for_log("[rig] running", kRunBound)) << cut.log();
   // Wait for a checkpoint inside the shear, then for the rig to go on past it.
@@ -137,12 +142,12 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
   c = vt::io::read_checkpoint(checkpoint.string());  // the last one (maybe later than the one seen)
   ASSERT_EQ(c.run.stage_index, 1u);
   ASSERT_GT(c.run.rig_tick, 0u);
-  EXPECT_EQ(c.run.servo_memory.size(), 10u) << "the PID servo's memory";
+  EXPECT_EQ(c.run.servo_memory.size(), servo_numbers) << "the servo's memory";
   EXPECT_EQ(c.run.rate_controller_memory.size(), 3u) << "the adaptive rate controller's memory";
   EXPECT_FALSE(bag_files(cut.out(), "rig").empty()) << "the bags closed at the checkpoints";
   const std::size_t killed_rows = vt::io::read_results_series((cut.out() / "results.h5").string()).size();
 
-  ScriptRun resumed("resume_again", kEnv, "--resume " + cut.out().string());
+  ScriptRun resumed(tag + "_again", env, "--resume " + cut.out().string());
   ASSERT_GE(resumed.wait_exit(kRunBound), 0) << resumed.log();
   ASSERT_EQ(resumed.code(), 0) << resumed.log();
   EXPECT_FALSE(fs::exists(checkpoint)) << "the finished test leaves no checkpoint";
@@ -200,6 +205,11 @@ TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
   EXPECT_TRUE(cut.left_behind().empty());
   if (!::testing::Test::HasFailure())
     for (const ScriptRun* r : {&whole, &cut, &resumed}) r->remove_outputs();
+}
+
+TEST(RigResume, KilledMidShearAndResumedEqualsTheUninterruptedTest) {
+  // The C++ controllers, nodelets in the rig's process: the PID servo keeps 10 numbers.
+  expect_resume_equals_uninterrupted("resume", kEnv, kProtocol, 10);
 }
 
 }  // namespace
