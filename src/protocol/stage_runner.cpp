@@ -175,17 +175,8 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
     }
     if (!boundary.servo[st.axial_axis]) rates[st.axial_axis] = d.axial_rate;
     if (sample && checkpoints_.due()) {  // everything the next tick depends on
-      RunCheckpoint c;
-      c.stage_index = index;
-      c.stage_steps = k;
-      for (int i = 0; i < 3; ++i) c.rates[i] = rates[i];
-      c.finished = report.stages;
-      c.steps = report.steps;
-      c.ticks = report.ticks;
-      c.wall_seconds = wall_before_ + seconds_since(run_start_);
-      c.judge = judge.save_state();
-      c.specimen = specimen;
-      c.servo = servo != nullptr;
+      RunCheckpoint c = checkpoint_of(index, k, rates, report, wall_before_ + seconds_since(run_start_), judge,
+                                      specimen, servo != nullptr);
       if (servo) c.servo_memory = servo->memory();
       c.servo_start_time = servo_start;
       const auto t = Clock::now();

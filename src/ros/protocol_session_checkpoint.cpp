@@ -63,17 +63,11 @@ void ProtocolSession::take_checkpoint(std::size_t index, std::int64_t stage_step
                        std::to_string(rig_timeout_) + " s");
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    protocol::RunCheckpoint c;
-    c.stage_index = index;
-    c.stage_steps = stage_steps;
-    for (int a = 0; a < 3; ++a) c.rates[a] = info.response.strain_rate[static_cast<std::size_t>(a)];
-    c.finished = report.stages;
-    c.steps = report.steps;
-    c.ticks = report.ticks;
-    c.wall_seconds = wall_before_ + seconds_since(t_start_);
-    c.judge = judge.save_state();
-    c.specimen = specimen_;
-    c.servo = judge.boundary().any_servo();
+    const double rates[3] = {info.response.strain_rate[0], info.response.strain_rate[1],
+                             info.response.strain_rate[2]};
+    protocol::RunCheckpoint c = protocol::checkpoint_of(index, stage_steps, rates, report,
+                                                        wall_before_ + seconds_since(t_start_), judge, specimen_,
+                                                        judge.boundary().any_servo());
     if (c.servo && !controller_memory(servo_, c.servo_memory)) {
       schedule_.reset();
       return;

@@ -1,5 +1,6 @@
 // RateControllerNode: a rate strategy behind ROS. See rate_controller_node.h.
 #include "virtual_triaxial/ros/rate_controller_node.h"
+#include "virtual_triaxial/ros/controller_memory.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -163,14 +164,7 @@ bool RateControllerNode::on_set_memory(virtual_triaxial::SetMemory::Request& rq,
     rs.message = "memory: the rate controller is not running (configure and enable it first)";
     return true;
   }
-  try {
-    strategy_->restore_memory(rq.memory);
-  } catch (const std::invalid_argument& e) {
-    rs.message = std::string("memory: ") + e.what();
-    return true;
-  }
-  rs.success = true;
-  rs.message = "restored " + std::to_string(rq.memory.size()) + " numbers";
+  answer_set_memory(*strategy_, rq.memory, rs);
   return true;
 }
 

@@ -1,5 +1,6 @@
 // ServoControllerNode: servo strategy behind ROS. See servo_controller_node.h.
 #include "virtual_triaxial/ros/servo_controller_node.h"
+#include "virtual_triaxial/ros/controller_memory.h"
 
 #include <cmath>
 
@@ -454,14 +455,7 @@ bool ServoControllerNode::on_set_memory(virtual_triaxial::SetMemory::Request& rq
     rs.message = "memory: the servo is not running (enable it first; axes claimed)";
     return true;
   }
-  try {
-    strategy_->restore_memory(rq.memory);
-  } catch (const std::invalid_argument& e) {
-    rs.message = std::string("memory: ") + e.what();
-    return true;
-  }
-  rs.success = true;
-  rs.message = "restored " + std::to_string(rq.memory.size()) + " numbers";
+  answer_set_memory(*strategy_, rq.memory, rs);
   return true;
 }
 

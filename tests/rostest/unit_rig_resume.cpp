@@ -29,6 +29,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "../unit/support/measures_bits.h"
 #include "support/script_run.h"
 #include "virtual_triaxial/Stress.h"
 #include "virtual_triaxial/io/checkpoint_file.h"
@@ -46,26 +47,6 @@ std::string summary_without_wall(const fs::path& p) {
   std::string s = slurp(p);
   s = std::regex_replace(s, std::regex("\"wall_seconds\":[^,}]*,?"), "");
   return std::regex_replace(s, std::regex("\"results\":\"[^\"]*\""), "");
-}
-
-std::vector<std::uint64_t> bits(const std::vector<double>& v) {
-  std::vector<std::uint64_t> b(v.size());
-  std::memcpy(b.data(), v.data(), v.size() * sizeof(double));
-  return b;
-}
-
-/// Every number of a sample, as bits.
-std::vector<std::uint64_t> bits(const vt::dem::Measures& m) {
-  std::vector<double> v = {m.time, m.p, m.q, m.phi, m.volumetric_strain, m.volume, m.void_ratio, m.ufr, m.iuf,
-                           m.moment_index, m.inertia_index, m.coordination_number, m.raw_coordination_number,
-                           m.idle_mass_fraction, m.max_overlap_ratio, m.energy.boundary_work, m.energy.damping,
-                           m.energy.friction, m.energy.kinetic_translational, m.energy.kinetic_rotational,
-                           m.energy.elastic, static_cast<double>(m.step), static_cast<double>(m.contacts)};
-  for (int i = 0; i < 3; ++i) {
-    v.push_back(m.strain[i]);
-    for (int j = 0; j < 3; ++j) v.push_back(m.stress(i, j));
-  }
-  return bits(v);
 }
 
 /// tick -> the bits of its /stress message (time, p, q, the tensor), from bags in order (later ones win).

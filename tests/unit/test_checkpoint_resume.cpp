@@ -19,11 +19,14 @@
 #include <vector>
 
 #include "support/cli.h"
+#include "support/measures_bits.h"
 #include "virtual_triaxial/io/results_file.h"
 
 namespace fs = std::filesystem;
 
 namespace {
+
+using vt::test::bits;
 
 fs::path tmpdir() {
   static const fs::path d = vt::test::scratch_dir("resume");
@@ -49,25 +52,6 @@ fs::path protocol(const std::string& name, const std::vector<std::pair<std::stri
   const fs::path p = tmpdir() / (name + ".yaml");
   std::ofstream(p) << y;
   return p;
-}
-
-/// Every number of a sample, as bits.
-std::vector<std::uint64_t> bits(const vt::dem::Measures& m) {
-  std::vector<double> v = {m.time, m.p, m.q, m.phi, m.volumetric_strain, m.volume, m.void_ratio, m.ufr, m.iuf,
-                           m.moment_index, m.inertia_index, m.coordination_number, m.raw_coordination_number,
-                           m.idle_mass_fraction, m.max_overlap_ratio, m.energy.boundary_work, m.energy.damping,
-                           m.energy.friction, m.energy.kinetic_translational, m.energy.kinetic_rotational,
-                           m.energy.elastic, m.energy.kinetic_reference, m.energy.elastic_reference,
-                           static_cast<double>(m.step), static_cast<double>(m.contacts),
-                           static_cast<double>(m.sliding_contacts), m.energy.has_reference ? 1.0 : 0.0};
-  for (int i = 0; i < 3; ++i) {
-    v.push_back(m.principal_stress[i]);
-    v.push_back(m.strain[i]);
-    for (int j = 0; j < 3; ++j) v.push_back(m.stress(i, j));
-  }
-  std::vector<std::uint64_t> b(v.size());
-  std::memcpy(b.data(), v.data(), v.size() * sizeof(double));
-  return b;
 }
 
 /// The JSON summary line without the wall time and the results path.

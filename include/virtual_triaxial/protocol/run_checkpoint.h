@@ -35,4 +35,27 @@ struct RunCheckpoint {
   std::int64_t lockstep_timeouts = 0;          ///< dem_node's lockstep timeouts of the run so far
 };
 
+/// The part of a checkpoint both runners fill alike, on a sample tick of
+/// stage `stage_index` after `stage_steps` of its steps: the next tick's
+/// log-strain rates [1/s], the finished stages and counts of `report`, the
+/// judge's memory and the stage's specimen at its start; `servo` says
+/// whether the stage runs one (its memory is the runner's to add: an object
+/// headless, a node on the rig).
+inline RunCheckpoint checkpoint_of(std::size_t stage_index, std::int64_t stage_steps, const double (&rates)[3],
+                                   const RunReport& report, double wall_seconds, const StageJudge& judge,
+                                   const SpecimenAtStart& specimen, bool servo) {
+  RunCheckpoint c;
+  c.stage_index = stage_index;
+  c.stage_steps = stage_steps;
+  for (int a = 0; a < 3; ++a) c.rates[a] = rates[a];
+  c.finished = report.stages;
+  c.steps = report.steps;
+  c.ticks = report.ticks;
+  c.wall_seconds = wall_seconds;
+  c.judge = judge.save_state();
+  c.specimen = specimen;
+  c.servo = servo;
+  return c;
+}
+
 }  // namespace vt::protocol
