@@ -42,7 +42,7 @@ import yaml
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from vt_sweep import run_sweep, spec_from_dict  # noqa: E402  (after the path)
+from vt_sweep import finished_runs, run_sweep, spec_from_dict  # noqa: E402  (after the path)
 
 SAMPLES = {  # base protocol, final axial strain (past the peak: 2-2.5 % spheres, 0.1-0.2 % spheroids)
     "dense_1000": ("config/protocols/drained_100kPa.yaml", 0.04),
@@ -163,19 +163,8 @@ def collect(sample):
     points = []
     for name, _, params, threads in groups(sample):
         out = os.path.join(HERE, sample, "runs", name)
-        if not os.path.isdir(os.path.join(out, "runs")):
-            continue
         key = list(params)[0]
-        for rid in sorted(os.listdir(os.path.join(out, "runs"))):
-            d = os.path.join(out, "runs", rid)
-            if rid.startswith(".") or not os.path.exists(os.path.join(d, "status.json")):
-                continue
-            with open(os.path.join(d, "status.json")) as f:
-                st = json.load(f)
-            summ = {}
-            if os.path.exists(os.path.join(d, "summary.json")):
-                with open(os.path.join(d, "summary.json")) as f:
-                    summ = json.load(f)
+        for d, st, summ in finished_runs(out):
             value = st["values"].get(key, list(st["values"].values())[0] if st["values"] else "")
             rms, at_peak = lateral_errors(os.path.join(d, "results.h5"))
             points.append({

@@ -40,7 +40,7 @@ import yaml
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from vt_sweep import run_sweep, spec_from_dict  # noqa: E402
+from vt_sweep import finished_runs, run_sweep, spec_from_dict  # noqa: E402
 
 STEPS = 20000
 EPS_PRIME = 1e-6
@@ -92,19 +92,7 @@ def run(jobs):
 def collect():
     points = []
     for model, (key, values, usual) in MODELS.items():
-        out = os.path.join(HERE, "runs", model, "runs")
-        if not os.path.isdir(out):
-            continue
-        for rid in sorted(os.listdir(out)):
-            d = os.path.join(out, rid)
-            if rid.startswith(".") or not os.path.exists(os.path.join(d, "status.json")):
-                continue
-            with open(os.path.join(d, "status.json")) as f:
-                st = json.load(f)
-            summ = {}
-            if os.path.exists(os.path.join(d, "summary.json")):
-                with open(os.path.join(d, "summary.json")) as f:
-                    summ = json.load(f)
+        for d, st, summ in finished_runs(os.path.join(HERE, "runs", model)):
             shear = [s for s in summ.get("stages", []) if s.get("name") == "shear"]
             lateral = lateral_error(os.path.join(d, "results.h5"))
             points.append({

@@ -9,10 +9,12 @@ Python API (put the repository's scripts/ folder on sys.path):
                           folder=".")
     code = run_sweep(spec, backend="local", jobs=2)     # or backend="slurm", wait=True
     columns, rows = results(spec.output)                 # one dict per run, plan order
+    for folder, status, summary in finished_runs(spec.output): ...   # by run id
 
 The command line `scripts/triax_sweep` is the same code.
 """
 from .errors import SweepError
+from .run_one import finished_runs
 from .spec import load_spec, spec_from_dict
 
 
@@ -36,4 +38,4 @@ def results(out):
     return columns, rows
 
 
-__all__ = ["SweepError", "load_spec", "spec_from_dict", "run_sweep", "results"]
+__all__ = ["SweepError", "load_spec", "spec_from_dict", "run_sweep", "results", "finished_runs"]

@@ -52,6 +52,23 @@ def read_status(out, run_id):
         return json.load(f)
 
 
+def finished_runs(out):
+    """(folder, status, summary) of every published run of the sweep in `out`,
+    by run id; summary is {} when the program printed none (a failed run)."""
+    runs = os.path.join(out, "runs")
+    if not os.path.isdir(runs):
+        return
+    for run_id in sorted(os.listdir(runs)):
+        if run_id.startswith(".") or not is_published(out, run_id):
+            continue
+        folder = os.path.join(runs, run_id)
+        summary = {}
+        if os.path.exists(os.path.join(folder, "summary.json")):
+            with open(os.path.join(folder, "summary.json"), encoding="utf-8") as f:
+                summary = json.load(f)
+        yield folder, read_status(out, run_id), summary
+
+
 def _utc():
     return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
 

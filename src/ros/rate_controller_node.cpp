@@ -1,6 +1,7 @@
 // RateControllerNode: a rate strategy behind ROS. See rate_controller_node.h.
 #include "virtual_triaxial/ros/rate_controller_node.h"
 #include "virtual_triaxial/ros/controller_memory.h"
+#include "virtual_triaxial/ros/lockstep_subscription.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -18,15 +19,9 @@ RateControllerNode::RateControllerNode(const ::ros::NodeHandle& nh, const ::ros:
     : nh_(nh), pnh_(pnh) {
   pnh_.param<std::string>("owner", owner_, pnh_.getNamespace());
   if (owner_.empty()) throw std::invalid_argument("~owner: must not be empty");
-  ::ros::SubscribeOptions so;
-  so.init<virtual_triaxial::MomentIndex>(nh_.resolveName("moment_index"), 100,
-                                         [this](const virtual_triaxial::MomentIndex::ConstPtr& m) { on_index(m); });
-  so.transport_hints = ::ros::TransportHints().tcpNoDelay();
-  if (inline_index) {
-    express_ = std::make_unique<InlineCallbackQueue>(*nh_.getCallbackQueue(), &mutex_);
-    so.callback_queue = express_.get();
-  }
-  index_sub_ = nh_.subscribe(so);
+  index_sub_ = subscribe_lockstep<virtual_triaxial::MomentIndex>(
+      nh_, "moment_index", [this](const virtual_triaxial::MomentIndex::ConstPtr& m) { on_index(m); }, inline_index,
+      mutex_, express_);
   command_pub_ = nh_.advertise<virtual_triaxial::CellCommand>("cell_command", 1000, true);
   state_pub_ = nh_.advertise<virtual_triaxial::RateState>("rate_state", 1000);
   claim_client_ = nh_.serviceClient<virtual_triaxial::ClaimAxes>("claim_axes");

@@ -1,6 +1,7 @@
 // ServoControllerNode: servo strategy behind ROS. See servo_controller_node.h.
 #include "virtual_triaxial/ros/servo_controller_node.h"
 #include "virtual_triaxial/ros/controller_memory.h"
+#include "virtual_triaxial/ros/lockstep_subscription.h"
 
 #include <cmath>
 
@@ -36,15 +37,9 @@ ServoControllerNode::ServoControllerNode(const ::ros::NodeHandle& nh, const ::ro
                                          bool inline_stress)
     : nh_(nh), pnh_(pnh) {
   read_parameters();
-  ::ros::SubscribeOptions so;
-  so.init<virtual_triaxial::Stress>(nh_.resolveName("stress"), 100,
-                                    [this](const virtual_triaxial::Stress::ConstPtr& m) { on_stress(m); });
-  so.transport_hints = ::ros::TransportHints().tcpNoDelay();
-  if (inline_stress) {
-    express_ = std::make_unique<InlineCallbackQueue>(*nh_.getCallbackQueue(), &mutex_);
-    so.callback_queue = express_.get();
-  }
-  stress_sub_ = nh_.subscribe(so);
+  stress_sub_ = subscribe_lockstep<virtual_triaxial::Stress>(
+      nh_, "stress", [this](const virtual_triaxial::Stress::ConstPtr& m) { on_stress(m); }, inline_stress, mutex_,
+      express_);
   // Latched: a dem_node whose subscription connects after our claim (the
   // claim only needs one cell_command subscriber, maybe another node) still
   // gets the answer we already sent for the tick it waits on.
