@@ -1,4 +1,5 @@
 #include "virtual_triaxial/io/psd_file.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include "virtual_triaxial/dem/cloud_generator.h"
 
@@ -29,12 +30,7 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string num(double v, int precision = 10) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
+std::string num(double v, int precision = 10) { return number_text(v, precision); }
 
 double positive(const Section& s, const std::string& key) {
   const double v = s.number(key);

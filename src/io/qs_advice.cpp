@@ -1,4 +1,5 @@
 #include "virtual_triaxial/io/qs_advice.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include <algorithm>
 #include <chrono>
@@ -28,12 +29,7 @@ double measure_cost(const dem::Simulation& sim) {
   return s / (static_cast<double>(steps) * static_cast<double>(n));
 }
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return std::isfinite(v) ? number_text(v, 10) : "null"; }
 
 }  // namespace
 

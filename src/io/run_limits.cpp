@@ -1,5 +1,6 @@
 // Run limits shared by both runners. See run_limits.h.
 #include "virtual_triaxial/io/run_limits.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include <unistd.h>
 
@@ -10,11 +11,7 @@ namespace vt::io {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
+std::string num(double v) { return number_text(v, 6); }
 
 double physical_memory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), size = ::sysconf(_SC_PAGESIZE);

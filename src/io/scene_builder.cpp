@@ -1,4 +1,5 @@
 #include "virtual_triaxial/io/scene_builder.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include <cstdio>
 #include <stdexcept>
@@ -39,11 +40,7 @@ dem::SimulationSettings settings_from_scene(const SceneConfig& scene) {
 
 namespace {
 
-std::string num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
+std::string num(double v) { return number_text(v, 6); }
 
 // `material.*` beside a sample_file: density and Young's modulus are scaled
 // into the sample (dem/material_scaling.h: every dimensionless quantity

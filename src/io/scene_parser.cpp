@@ -1,4 +1,5 @@
 #include "virtual_triaxial/io/scene_parser.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include <cctype>
 #include <cerrno>
@@ -25,12 +26,7 @@ std::string lower(std::string s) {
   return s;
 }
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return number_text(v, 10); }
 
 double positive(const Section& s, const std::string& key, double fallback) {
   const double v = s.number_or(key, fallback);

@@ -1,6 +1,7 @@
 // AxisArbiter: axis ownership, open-loop rates and lockstep bookkeeping.
 // See axis_arbiter.h.
 #include "virtual_triaxial/ros/axis_arbiter.h"
+#include "virtual_triaxial/io/number_text.h"
 
 #include <cmath>
 #include <sstream>
@@ -10,12 +11,7 @@ namespace vt::ros {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
+std::string num(double v) { return io::number_text(v, 6); }
 
 }  // namespace
 

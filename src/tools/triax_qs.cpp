@@ -22,6 +22,7 @@
 // JSON object with unit-named keys. Exit codes as triax_run's: 0 done,
 // 2 bad input (one line naming the field).
 #include <unistd.h>
+#include "virtual_triaxial/io/number_text.h"
 
 #include <cerrno>
 #include <cmath>
@@ -58,12 +59,7 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
+std::string num(double v) { return std::isfinite(v) ? vt::io::number_text(v, 6) : "null"; }
 
 double parse_number(const std::string& text, const std::string& field) {
   char* end = nullptr;
