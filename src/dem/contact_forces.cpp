@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/split_sums.h"
 
 namespace vt::dem {
 
@@ -51,6 +52,16 @@ constexpr std::int32_t kPrefetchEntries = 24;   // pass 1: partner data, entries
 constexpr std::int32_t kPrefetchContacts = 6;   // pass 2: pair state and spring, contacts ahead
 constexpr std::int32_t kPrefetchParticles = 6;  // gather: pair states, particles ahead
 
+/// Stores v at *dst one component at a time. A whole-Vec3 assignment in the
+/// pair loops was compiled as two 8-byte stores to a stack slot and a 16-byte
+/// reload (a store-forwarding stall of about 15 cycles; perf showed 12-15 %
+/// of the step on each of the two such stores of the sphere loop).
+inline void store(Vec3& dst, const Vec3& v) {
+  dst.x = v.x;
+  dst.y = v.y;
+  dst.z = v.z;
+}
+
 /// Everything the pair loop reads, as plain pointers and local copies (a
 /// store through a double* could otherwise alias the cell matrix or the law's
 /// coefficients and force a reload on every pair).
@@ -85,6 +96,80 @@ struct PairInputs {
   double viscous_a;
 };
 
+/// The viscous contact dashpots (viscous_contact_damping.h) of a pair of
+/// masses m_i, m_j: adds them to the force on j and returns the power they
+/// take [W] (normal always; tangential while the contact sticks). A select,
+/// not a jump, for sliding (the sphere contact lanes run it as SIMD).
+inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& law, double delta, double r_eff,
+                           const Vec3& nrm, const Vec3& vc, bool sliding, Vec3& f) {
+  const double eta_n = a * std::sqrt(mi * mj / (mi + mj) * law.normal_stiffness(delta, r_eff));
+  const double vn = dot(vc, nrm);
+  f -= (eta_n * vn) * nrm;
+  const double eta_t = eta_n * std::sqrt(law.tangential_ratio());  // a sqrt(m* K_t), K_t = ratio K_n
+  const Vec3 vt = vc - vn * nrm;
+  Vec3 stuck = f;
+  stuck -= eta_t * vt;
+  f = select(sliding, f, stuck);
+  return eta_n * vn * vn + (sliding ? 0.0 : eta_t * norm2(vt));
+}
+
+/// Contacts of the sphere pair loop taken kLanes at a time: the inputs of
+/// each contact gathered into arrays, the contact itself (geometry, relative
+/// velocity, Hertz-Mindlin, dashpots, moment) computed by one loop without
+/// jumps over the lanes, which the compiler turns into SIMD, then the
+/// results stored and summed one contact at a time in list order. Unused
+/// lanes of the last group repeat the group's first contact.
+constexpr int kLanes = 8;
+struct SphereLanes {
+  // inputs
+  double dx[kLanes], dy[kLanes], dz[kLanes], dist2[kLanes], ri[kLanes], rj[kLanes];
+  double rvx[kLanes], rvy[kLanes], rvz[kLanes];  // v_j - v_i [m/s]
+  double wix[kLanes], wiy[kLanes], wiz[kLanes], wjx[kLanes], wjy[kLanes], wjz[kLanes];
+  double sx[kLanes], sy[kLanes], sz[kLanes];     // spring [N]: in, then out
+  double mi[kLanes], mj[kLanes];                 // viscous dashpots only
+  // results
+  double fx[kLanes], fy[kLanes], fz[kLanes], mx[kLanes], my[kLanes], mz[kLanes];
+  double hov[kLanes], li[kLanes], lj[kLanes], ratio[kLanes];
+  double energy[kLanes], friction[kLanes], power[kLanes], f2[kLanes];
+  std::int32_t sliding[kLanes];
+};
+
+/// The contact of every lane (see evaluate_pairs for the formulas).
+template <bool Viscous>
+inline void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
+                                 double viscous_a) {
+  for (int k = 0; k < kLanes; ++k) {
+    const Vec3 d{L.dx[k], L.dy[k], L.dz[k]};
+    const double ri = L.ri[k], rj = L.rj[k];
+    const double rsum = ri + rj;
+    const double dist = std::sqrt(L.dist2[k]);
+    const double delta = rsum - dist;
+    const Vec3 nrm = (1.0 / dist) * d;
+    const double hov = 0.5 * delta;
+    const double li = ri - hov, lj = rj - hov;
+    const Vec3 wi{L.wix[k], L.wiy[k], L.wiz[k]}, wj{L.wjx[k], L.wjy[k], L.wjz[k]};
+    const Vec3 vc = Vec3{L.rvx[k], L.rvy[k], L.rvz[k]} + lgrad * d - cross(li * wi + lj * wj, nrm);
+    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
+    const double r_eff = ri * rj / rsum;
+    Vec3 spring{L.sx[k], L.sy[k], L.sz[k]};
+    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, spring);
+    Vec3 f = r.force_on_j;
+    L.power[k] = Viscous ? add_dashpots(L.mi[k], L.mj[k], viscous_a, law, delta, r_eff, nrm, vc, r.sliding, f) : 0.0;
+    const Vec3 m = -cross(nrm, f);  // n x F_on_i
+    L.sx[k] = spring.x; L.sy[k] = spring.y; L.sz[k] = spring.z;
+    L.fx[k] = f.x; L.fy[k] = f.y; L.fz[k] = f.z;
+    L.mx[k] = m.x; L.my[k] = m.y; L.mz[k] = m.z;
+    L.hov[k] = hov;
+    L.li[k] = li;
+    L.lj[k] = lj;
+    L.ratio[k] = delta / std::min(ri, rj);
+    L.energy[k] = r.elastic_energy;
+    L.friction[k] = r.friction_dissipation;
+    L.f2[k] = norm2(f);
+    L.sliding[k] = r.sliding ? 1 : 0;
+  }
+}
+
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
 /// [off[i_begin], off[i_end]) in list order. Pass 1 tests every entry for
 /// contact without a data-dependent branch (the test is a coin flip for the
@@ -95,25 +180,6 @@ struct PairInputs {
 /// zero force and moment (so the gather may add every entry); one that was in
 /// contact at the last evaluation also loses its spring. Measure = false
 /// skips what only measured steps use (elastic energy, force norms).
-/// The viscous contact dashpots (viscous_contact_damping.h) of pair (i, j):
-/// adds them to the force on j and returns the power they take [W] (normal
-/// always; tangential while the contact sticks).
-inline double add_dashpots(const PairInputs& in, std::int32_t i, std::int32_t j, const HertzMindlin& law,
-                           double delta, double r_eff, const Vec3& nrm, const Vec3& vc, bool sliding, Vec3& f) {
-  const double mi = in.mass[i], mj = in.mass[j];
-  const double eta_n = in.viscous_a * std::sqrt(mi * mj / (mi + mj) * law.normal_stiffness(delta, r_eff));
-  const double vn = dot(vc, nrm);
-  f -= (eta_n * vn) * nrm;
-  double power = eta_n * vn * vn;
-  if (!sliding) {
-    const double eta_t = eta_n * std::sqrt(law.tangential_ratio());  // a sqrt(m* K_t), K_t = ratio K_n
-    const Vec3 vt = vc - vn * nrm;
-    f -= eta_t * vt;
-    power += eta_t * norm2(vt);
-  }
-  return power;
-}
-
 template <bool Measure, bool Viscous>
 ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
                            std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch, double* c_dist2) {
@@ -140,7 +206,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
     const double rsum = in.rad[i] + in.rad[j];
     const bool touching = dist2 < rsum * rsum;
     c_entry[nc] = e;
-    c_branch[nc] = d;
+    store(c_branch[nc], d);
     c_dist2[nc] = dist2;
     nc += touching ? 1 : 0;
     // In contact at the last evaluation but not now: cleared below.
@@ -154,61 +220,80 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
     in.spring[e] = Vec3{};
   }
 
-  // Pass 2: the contacts, in list order.
+  // Pass 2: the contacts, kLanes at a time (SphereLanes), stored and summed
+  // in list order.
   ContactSums acc;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
-  for (std::int32_t c = 0; c < nc; ++c) {
-    if (c + kPrefetchContacts < nc) {
-      const std::int32_t ep = c_entry[c + kPrefetchContacts];
-      __builtin_prefetch(in.state + ep, 1);
-      __builtin_prefetch(in.spring + ep, 1);
-      if (in.force_out) {  // the partner's sums (scattered reads when N is large)
-        const std::int32_t jp = in.partner[ep];
-        __builtin_prefetch(in.force_out + jp, 1);
-        __builtin_prefetch(in.torque_out + jp, 1);
+  SphereLanes L;
+  std::int32_t lane_e[kLanes], lane_i[kLanes], lane_j[kLanes];
+  for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
+    const int lanes = static_cast<int>(std::min<std::int32_t>(kLanes, nc - c0));
+    for (int k = 0; k < kLanes; ++k) {
+      const std::int32_t c = c0 + (k < lanes ? k : 0);
+      if (c + kPrefetchContacts < nc) {
+        const std::int32_t ep = c_entry[c + kPrefetchContacts];
+        __builtin_prefetch(in.state + ep, 1);
+        __builtin_prefetch(in.spring + ep, 1);
+        if (in.force_out) {  // the partner's sums (scattered reads when N is large)
+          const std::int32_t jp = in.partner[ep];
+          __builtin_prefetch(in.force_out + jp, 1);
+          __builtin_prefetch(in.torque_out + jp, 1);
+        }
+      }
+      const std::int32_t e = c_entry[c];
+      const std::int32_t i = in.owner[e];
+      const std::int32_t j = in.partner[e];
+      lane_e[k] = e;
+      lane_i[k] = i;
+      lane_j[k] = j;
+      const Vec3 d = c_branch[c];
+      L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
+      L.dist2[k] = c_dist2[c];
+      L.ri[k] = in.rad[i];
+      L.rj[k] = in.rad[j];
+      const Vec3 rv = in.vel[j] - in.vel[i];
+      L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
+      const Vec3 wi = in.omg[i], wj = in.omg[j];
+      L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
+      L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
+      const Vec3 sp = in.spring[e];
+      L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
+      if constexpr (Viscous) {
+        L.mi[k] = in.mass[i];
+        L.mj[k] = in.mass[j];
       }
     }
-    const std::int32_t e = c_entry[c];
-    const std::int32_t i = in.owner[e];
-    const std::int32_t j = in.partner[e];
-    const double ri = in.rad[i], rj = in.rad[j];
-    const Vec3 d = c_branch[c];
-    const double rsum = ri + rj;
-    const double dist = std::sqrt(c_dist2[c]);
-    const double delta = rsum - dist;
-    const Vec3 nrm = (1.0 / dist) * d;
-    const double hov = 0.5 * delta;
-    const double li = ri - hov, lj = rj - hov;
-    const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d - cross(li * in.omg[i] + lj * in.omg[j], nrm);
-    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
-    const double r_eff = ri * rj / rsum;
-    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
-    Vec3 f = r.force_on_j;
-    if constexpr (Viscous)
-      acc.viscous_dissipation += dt * add_dashpots(in, i, j, law, delta, r_eff, nrm, vc, r.sliding, f);
-    PairState& st = in.state[e];
-    const Vec3 m = -cross(nrm, f);  // n x F_on_i
-    st.force = f;
-    st.moment_axis = m;
-    st.half_overlap = hov;
-    if (in.force_out) {  // the gather's arithmetic, in the gather's order
-      in.force_out[i] -= f;
-      in.torque_out[i] = fused_multiply_add(li, m, in.torque_out[i]);
-      in.force_out[j] += f;
-      in.torque_out[j] = fused_multiply_add(lj, m, in.torque_out[j]);
-    }
-    in.active[e] = hov != 0.0 ? 1 : 0;
-    vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
-    vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
-    vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
-    if (Measure) acc.elastic_energy += r.elastic_energy;
-    acc.friction_dissipation += r.friction_dissipation;
-    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(ri, rj));
-    acc.sliding += r.sliding ? 1 : 0;
-    if (Measure) {
-      const double f2 = norm2(f);
-      acc.sum_force2 += f2;
-      acc.sum_force += std::sqrt(f2);
+    sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
+    for (int k = 0; k < lanes; ++k) {
+      const std::int32_t e = lane_e[k], i = lane_i[k], j = lane_j[k];
+      const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
+      const Vec3 m{L.mx[k], L.my[k], L.mz[k]};
+      const double hov = L.hov[k];
+      PairState& st = in.state[e];
+      store(st.force, f);
+      store(st.moment_axis, m);
+      st.half_overlap = hov;
+      store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
+      if (in.force_out) {  // the gather's arithmetic, in the gather's order
+        in.force_out[i] -= f;
+        in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
+        in.force_out[j] += f;
+        in.torque_out[j] = fused_multiply_add(L.lj[k], m, in.torque_out[j]);
+      }
+      in.active[e] = hov != 0.0 ? 1 : 0;
+      const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
+      vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
+      vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
+      vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
+      if (Measure) acc.elastic_energy += L.energy[k];
+      acc.friction_dissipation += L.friction[k];
+      if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
+      acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.ratio[k]);
+      acc.sliding += L.sliding[k];
+      if (Measure) {
+        acc.sum_force2 += L.f2[k];
+        acc.sum_force += std::sqrt(L.f2[k]);
+      }
     }
   }
   acc.contacts = nc;
@@ -270,9 +355,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const double wake = in.sph[e].wake;
     const std::int32_t asleep = in.clock < wake ? 1 : 0;
     c_entry[nc] = e;
-    c_branch[nc].x = d.x;  // by component: a whole-Vec3 copy went through a
-    c_branch[nc].y = d.y;  // stack slot (store-forwarding stall)
-    c_branch[nc].z = d.z;
+    store(c_branch[nc], d);
     c_dist2[nc] = dist2;
     nc += in_reach & (asleep ^ 1);
     slept += in_reach & asleep;
@@ -377,7 +460,8 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
     Vec3 f = r.force_on_j;
     if constexpr (Viscous)
-      acc.viscous_dissipation += dt * add_dashpots(in, i, j, law, delta, r_eff, nrm, vc, r.sliding, f);
+      acc.viscous_dissipation +=
+          dt * add_dashpots(in.mass[i], in.mass[j], in.viscous_a, law, delta, r_eff, nrm, vc, r.sliding, f);
     st.force = f;
     st.moment_axis = cross(cj, f);  // here: the moment on j (see SpheroidPairState)
     st.half_overlap = 0.5 * delta;
@@ -476,7 +560,28 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const PairKernel kernel =
       viscous_a_ > 0.0 ? pair_kernel<true>(spheroids, measure) : pair_kernel<false>(spheroids, measure);
 
-  // One parallel region: pair evaluation, barrier, gather (on one thread the
+  // Gather of sphere i, over its gather slots in list order (see below).
+  const auto gather_sphere = [&](std::int32_t i) {
+    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+    Vec3 f{}, t{};
+    const double ri = rad[i];
+    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
+      const std::int32_t code = gcode[g];
+      const PairState& s = ps[code >> 2];
+      // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
+      const double sign = 1.0 - static_cast<double>(code & 2);
+      f = fused_multiply_add(sign, s.force, f);
+      t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
+    }
+    fout[i] = f;
+    tout[i] = t;
+  };
+  SplitSums* split = &split_;
+  ThreadRuns* runs = &runs_;
+  split_used_ = !scatter && !spheroids && omp_get_max_threads() > 1;
+
+  // One parallel region: pair evaluation, barrier, sums (on one thread the
   // pair loop sums per particle itself, in the same order: no gather).
 #pragma omp parallel
   {
@@ -507,11 +612,59 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums.
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
-    } else {
+    } else if (spheroids) {
+      // chunk costs vary with the solves and the sleeping pairs: dealt out
 #pragma omp for schedule(dynamic, 1)
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+    } else if (omp_get_num_threads() == 1) {
+      // One thread, pair states within the L2 cache: pair loop, then gather
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+      for (std::int32_t i = 0; i < ni; ++i) gather_sphere(i);
+    } else {
+      // Spheres: each thread takes its run of consecutive chunks (the run of
+      // the integrator too) and sums in its own buffers (split_sums.h).
+#pragma omp single
+      {
+        runs->prepare(nchunks, n, omp_get_num_threads());
+        split->prepare(list, n, *runs);
+      }
+      // (implicit barrier: the plan is ready)
+      const int t = omp_get_thread_num();
+      const auto [c0, c1] = runs->run(t);
+      const double start = omp_get_wtime();
+      const std::int32_t i0 = c0 * kChunkSize, i1 = std::min(ni, c1 * kChunkSize);
+      Vec3* fb = split->force(t);
+      Vec3* tb = split->torque(t);
+      std::fill(fb + i0, fb + i1, Vec3{});
+      std::fill(tb + i0, tb + i1, Vec3{});
+      for (const std::int32_t j : split->foreign(t)) {
+        fb[j] = Vec3{};
+        tb[j] = Vec3{};
+      }
+      PairInputs own = in;
+      own.force_out = fb;
+      own.torque_out = tb;
+      for (std::int32_t c = c0; c < c1; ++c) {
+        const std::int32_t b = c * kChunkSize, e = std::min<std::int32_t>(ni, b + kChunkSize);
+        mine.reserve(static_cast<std::size_t>(in.off[e] - in.off[b]));
+        sums[c] = kernel(own, b, e, mine.entry.data(), mine.separated.data(), mine.branch.data(), mine.dist2.data());
+      }
+      const double evaluated = omp_get_wtime();
+#pragma omp barrier
+      const double summing = omp_get_wtime();
+      // every pair state is final: the sole particles' sums are the buffers',
+      // the others gather (below, same bits)
+      for (std::int32_t i = i0; i < i1; ++i) {
+        if (split->sole(i)) {
+          fout[i] = fb[i];
+          tout[i] = tb[i];
+        } else {
+          gather_sphere(i);
+        }
+      }
+      runs->record(t, (evaluated - start) + (omp_get_wtime() - summing));
     }
-    // (implicit barrier: every pair state is final)
+    // (spheroids: implicit barrier, every pair state is final)
 
     // Gather, per particle, over its gather slots in list order: entries of
     // owners stored before it (force added), its own entries (force
@@ -549,24 +702,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
           const std::int32_t e = gcode[g] >> 2;
           f += ps[e].force;
           t += ps[e].moment_axis;
-        }
-        fout[i] = f;
-        tout[i] = t;
-      }
-    } else {
-#pragma omp for schedule(static, kChunkSize)
-      for (std::int32_t i = 0; i < ni; ++i) {
-        const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-        for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
-        Vec3 f{}, t{};
-        const double ri = rad[i];
-        for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
-          const std::int32_t code = gcode[g];
-          const PairState& s = ps[code >> 2];
-          // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
-          const double sign = 1.0 - static_cast<double>(code & 2);
-          f = fused_multiply_add(sign, s.force, f);
-          t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
         }
         fout[i] = f;
         tout[i] = t;

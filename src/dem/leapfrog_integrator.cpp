@@ -1,5 +1,7 @@
 #include "virtual_triaxial/dem/leapfrog_integrator.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -144,7 +146,8 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
 IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
                                             const std::vector<Vec3>& force,
                                             const std::vector<Vec3>& torque,
-                                            const std::vector<Vec3>& frac_at_build, bool measure) {
+                                            const std::vector<Vec3>& frac_at_build, bool measure,
+                                            ThreadRuns* runs) {
   const std::size_t n = p.size();
   const std::int32_t nchunks = chunk_count(n);
   chunk_sums_.assign(static_cast<std::size_t>(nchunks), IntegrationSums{});
@@ -160,16 +163,27 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
   const bool spheroids = spheroids_;
   const bool local = local_.coefficient() > 0.0;
 
-#pragma omp parallel for schedule(static, 1)
-  for (std::int32_t c = 0; c < nchunks; ++c) {
-    const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
-    const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
-    if (local)
-      sums[c] = spheroids ? advance_chunk<true, true>(in, i_begin, i_end, measure)
-                          : advance_chunk<false, true>(in, i_begin, i_end, measure);
-    else
-      sums[c] = spheroids ? advance_chunk<true, false>(in, i_begin, i_end, measure)
-                          : advance_chunk<false, false>(in, i_begin, i_end, measure);
+  // One run of consecutive chunks per thread: the runs of the sphere pair
+  // loop and its sums when given (thread_runs.h, contact_forces.cpp), so the
+  // forces are read where they were summed and the time spent counts
+  // toward the cut; else equal runs (chunk_run).
+#pragma omp parallel
+  {
+    const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    const bool shared = runs && runs->threads() == team && runs->chunks() == nchunks && team > 1;
+    const auto [c0, c1] = shared ? runs->run(t) : chunk_run(nchunks, t, team);
+    const double start = shared ? omp_get_wtime() : 0.0;
+    for (std::int32_t c = c0; c < c1; ++c) {
+      const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
+      const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
+      if (local)
+        sums[c] = spheroids ? advance_chunk<true, true>(in, i_begin, i_end, measure)
+                            : advance_chunk<false, true>(in, i_begin, i_end, measure);
+      else
+        sums[c] = spheroids ? advance_chunk<true, false>(in, i_begin, i_end, measure)
+                            : advance_chunk<false, false>(in, i_begin, i_end, measure);
+    }
+    if (shared) runs->record(t, omp_get_wtime() - start);
   }
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);

@@ -10,14 +10,19 @@
 //   its tangential part times dt drives the Hertz-Mindlin spring (eq. 113).
 // Per-pair results are stored in the list. The per-particle resultant force
 // and moment (about the centroid) add each particle's contacts in list order
-// (NeighborList): on several threads, and on one while the pair states fit
-// the L2 cache, a gather after the pair loop reads the stored results;
-// otherwise the one-thread pair loop, which visits the pairs in list order,
-// adds them to both particles as it goes (same terms, same order, same
-// bits; the torque terms use fused_multiply_add so that compiler
-// contraction cannot differ between the two). The sums therefore depend on
-// the storage order (fixed during a run) but not on the thread count or on
-// when the list is rebuilt.
+// (NeighborList), whichever way they are made:
+//   - one thread, pair states beyond the L2 cache: the pair loop, which
+//     visits the pairs in list order, adds them to both particles as it goes;
+//   - one thread, within L2: a gather after the pair loop reads the stored
+//     results per particle;
+//   - several threads: thread t takes its run of chunks (thread_runs.h, cut
+//     by measured speed) and adds its pairs in its own buffers; a particle
+//     whose entries all lie in one run takes that buffer's sum, the others
+//     the gather (split_sums.h).
+// Same terms, same order, same bits (the torque terms use fused_multiply_add
+// so that compiler contraction cannot differ between them). The sums
+// therefore depend on the storage order (fixed during a run) but not on the
+// thread count, the runs or when the list is rebuilt.
 // Torques: contact point at x_i + l_i n, so T_i = l_i (n x F_i), T_j = l_j (n x F_i).
 // With viscous contact damping (set_viscous_damping) each contact's force
 // also holds its dashpots, evaluated with the same v_c (so they enter the
@@ -40,14 +45,20 @@
 //
 // Performance notes (bench/triax_bench.cpp measures them): the pairs of a
 // 512-particle chunk are first tested for contact in one branch-free pass,
-// then only the contacts are evaluated; entries out of contact keep zero
-// force and moment so that the gather adds every entry without a test; the
-// per-pair results sit in one cache line per entry (PairState); partner data
-// and pair states are prefetched in software. On one thread, once the pair
-// states outgrow the L2 cache, there is no gather (its scattered reads of
-// other particles' pair states were the step's largest cost growth with N);
-// the pair loop's additions to the partner's force land mostly in cache, as
-// storage follows space (spatial_sort.h); see set_pair_loop_sum_threshold.
+// then only the contacts are evaluated, 8 at a time for spheres: their
+// inputs gathered into arrays, the contact law (hertz_mindlin.h, written
+// with selects instead of jumps) run by one loop the compiler vectorises
+// (AVX2/AVX-512 with -march=native), the results stored and summed one by
+// one in list order (1.3x faster than one contact at a time at 12 000
+// particles; the same bits). Entries out of contact keep zero force and
+// moment so that the gather adds every entry without a test; the per-pair
+// results sit in one cache line per entry (PairState); partner data and
+// pair states are prefetched in software; Vec3 results are stored one
+// component at a time (a whole-Vec3 store went through a stack slot, a
+// store-forwarding stall). On one thread, once the pair states outgrow the
+// L2 cache, there is no gather (its scattered reads of other particles'
+// pair states were the step's largest cost growth with N); on several
+// threads only the particles at the runs' ends are gathered.
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -72,6 +83,7 @@
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/spheroid_contact.h"
+#include "virtual_triaxial/dem/split_sums.h"
 #include "virtual_triaxial/dem/viscous_contact_damping.h"
 
 namespace vt::dem {
@@ -136,6 +148,13 @@ class ContactForces {
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop.
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
+  /// Sphere path on several threads: particles of the last compute() whose
+  /// sums took the gather (split_sums.h); 0 otherwise.
+  std::size_t split_gathered() const { return split_used_ ? split_.gathered() : 0; }
+  /// The runs of chunks per thread of the sphere path, which the integrator
+  /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
+  ThreadRuns& thread_runs() { return runs_; }
+  const ThreadRuns& thread_runs() const { return runs_; }
 
   /// Per-thread scratch kept between calls (the contacts found in a chunk),
   /// grown on demand. Implementation detail.
@@ -157,6 +176,9 @@ class ContactForces {
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   static std::size_t default_pair_loop_sum_threshold();
   std::vector<double> hertz_radius_;     ///< spheroid path: R_i of eq. 104 per particle, every call
+  SplitSums split_;                      ///< sphere path on several threads
+  ThreadRuns runs_;                      ///< chunks per thread (sphere path and integrator)
+  bool split_used_ = false;              ///< the last compute() used split_
 };
 
 }  // namespace vt::dem

@@ -71,35 +71,45 @@ class HertzMindlin {
   ///   spring   stored tangential force on j [N], updated in place
   ContactResult evaluate(const Vec3& n, double delta, double r_eff, const Vec3& d_t,
                          Vec3& spring) const {
+    // Every "if" of the law is a select here, not a jump: the sphere pair
+    // loop runs this over several contacts at once as SIMD (and a sliding
+    // test that is a coin flip costs no branch misprediction). Each select
+    // picks between values computed with the operations of the plain
+    // branches, so the results are those of the branching form.
     ContactResult r;
     const double root = std::sqrt(r_eff * delta);
     const double fn = normal_coef_ * root * delta;
     const double kt = tangential_ratio_ * 1.5 * normal_coef_ * root;
 
-    // Rotate the stored force into the current tangent plane, keeping its size.
-    Vec3 ft = spring;
-    const double old2 = norm2(ft);
-    if (old2 > 0.0) {
-      ft -= dot(ft, n) * n;
-      const double new2 = norm2(ft);
-      if (new2 > 0.0) ft *= std::sqrt(old2 / new2);
-    }
+    // Rotate the stored force into the current tangent plane, keeping its
+    // size (a zero spring stays as it is; one normal to the plane becomes 0).
+    const Vec3 old_ft = spring;
+    const double old2 = norm2(old_ft);
+    Vec3 proj = old_ft;
+    proj -= dot(old_ft, n) * n;
+    const double new2 = norm2(proj);
+    Vec3 rescaled = proj;
+    rescaled *= std::sqrt(old2 / (new2 > 0.0 ? new2 : 1.0));
+    Vec3 ft = select(old2 > 0.0, select(new2 > 0.0, rescaled, proj), old_ft);
     ft -= kt * d_t;
 
+    // Coulomb cap (eq. 113)
     const double cap = friction_ * fn;
     const double ft2 = norm2(ft);
-    if (ft2 > cap * cap) {
-      const double mag = std::sqrt(ft2);
-      r.sliding = true;
-      // delta = 0 (possible by rounding at first touch): kt = cap = 0 and
-      // the limit of cap (mag - cap) / kt as delta -> 0 is 0 (not 0/0).
-      r.friction_dissipation = kt > 0.0 ? cap * (mag - cap) / kt : 0.0;
-      ft *= cap / mag;
-    }
+    const bool sliding = ft2 > cap * cap;
+    const double mag = std::sqrt(ft2);  // > cap >= 0 when sliding
+    const double kt_or_1 = kt > 0.0 ? kt : 1.0;
+    // delta = 0 (possible by rounding at first touch): kt = cap = 0 and the
+    // limit of cap (mag - cap) / kt as delta -> 0 is 0 (not 0/0).
+    r.friction_dissipation = sliding && kt > 0.0 ? cap * (mag - cap) / kt_or_1 : 0.0;
+    Vec3 capped = ft;
+    capped *= cap / (sliding ? mag : 1.0);
+    ft = select(sliding, capped, ft);
+    r.sliding = sliding;
     spring = ft;
     r.normal_force = fn;
     r.force_on_j = fn * n + ft;
-    r.elastic_energy = 0.4 * fn * delta + (kt > 0.0 ? 0.5 * norm2(ft) / kt : 0.0);
+    r.elastic_energy = 0.4 * fn * delta + (kt > 0.0 ? 0.5 * norm2(ft) / kt_or_1 : 0.0);
     return r;
   }
 

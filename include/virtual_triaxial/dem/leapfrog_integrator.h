@@ -41,6 +41,7 @@
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
+#include "virtual_triaxial/dem/thread_runs.h"
 
 namespace vt::dem {
 
@@ -71,9 +72,11 @@ class LeapfrogIntegrator {
 
   /// Advance velocities and positions by one step. The cell must already be
   /// deformed to t+dt. frac_at_build feeds the Verlet rebuild criterion.
+  /// `runs`: the chunks per thread of the contact forces (thread_runs.h),
+  /// to take and to time; null or another team: equal runs.
   IntegrationSums advance(Particles& p, const PeriodicCell& cell, const std::vector<Vec3>& force,
                           const std::vector<Vec3>& torque, const std::vector<Vec3>& frac_at_build,
-                          bool measure);
+                          bool measure, ThreadRuns* runs = nullptr);
 
  private:
   /// Per-particle constants of eq. 2, packed (the integrator streams them).

@@ -130,6 +130,12 @@ class Simulation {
   /// set_pair_loop_sum_threshold); results are bit-identical either way.
   void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
   bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
+  /// Sphere path on several threads, last step: particles whose sums took
+  /// the gather (the others were summed by their thread's pair loop;
+  /// split_sums.h). 0 on one thread.
+  std::size_t split_gathered() const { return contact_forces_.split_gathered(); }
+  /// Chunks per thread of the sphere path and the integrator (thread_runs.h).
+  const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
 
  private:
   void initialize();

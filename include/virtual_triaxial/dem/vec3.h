@@ -43,6 +43,11 @@ inline Vec3 fused_multiply_add(double s, const Vec3& a, const Vec3& b) {
 #endif
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+/// c ? a : b per component: a select, not a jump (so that a loop over
+/// contacts that uses it can run as SIMD; see contact_forces.cpp).
+inline Vec3 select(bool c, const Vec3& a, const Vec3& b) {
+  return {c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z};
+}
 
 /// Row-major 3x3 matrix, m[r][c].
 struct Mat3 {
