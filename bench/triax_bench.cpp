@@ -50,7 +50,7 @@
 // --no-sleep: spheroid pairs found apart are tested every step
 // (Simulation::set_sleep_apart_pairs(false); same fingerprint, for A/B).
 // --sums: on one thread, where per-particle forces are summed (Simulation::
-// set_pair_loop_sum_threshold: auto = by the L2 size, pair-loop, gather;
+// set_pair_loop_sum_threshold: auto = the default (the pair loop), pair-loop, gather;
 // same fingerprint, for A/B); the output says which one ran (sums_in).
 //
 // Output (stdout), "key: value" lines, us_per_particle_step last:

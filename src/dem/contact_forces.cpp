@@ -1,7 +1,6 @@
 #include "virtual_triaxial/dem/contact_forces.h"
 
 #include <omp.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,14 +23,6 @@ void ContactSums::add(const ContactSums& o) {
   sum_force += o.sum_force;
   sum_force2 += o.sum_force2;
   spheroid.add(o.spheroid);
-}
-
-std::size_t ContactForces::default_pair_loop_sum_threshold() {
-  long l2 = 0;
-#ifdef _SC_LEVEL2_CACHE_SIZE  // glibc
-  l2 = sysconf(_SC_LEVEL2_CACHE_SIZE);
-#endif
-  return l2 > 0 ? static_cast<std::size_t>(l2) : std::size_t{512} << 10;
 }
 
 void ContactForces::Scratch::reserve(std::size_t n) {
@@ -617,7 +608,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
 #pragma omp for schedule(dynamic, 1)
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
     } else if (omp_get_num_threads() == 1) {
-      // One thread, pair states within the L2 cache: pair loop, then gather
+      // One thread asked for the gather (set_pair_loop_sum_threshold): pair loop, then gather
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
       for (std::int32_t i = 0; i < ni; ++i) gather_sphere(i);
     } else {
