@@ -42,6 +42,10 @@
 // spheroids). max_overlap_ratio is then delta / min(b_i, b_j). Summation
 // order and chunking as for spheres, so results are deterministic.
 //
+// Code: the pair kernels are src/dem/sphere_pairs.cpp and
+// src/dem/spheroid_pairs.cpp (what they share: src/dem/pair_kernel.h);
+// compute() (contact_forces.cpp) runs them over chunks and makes the sums.
+//
 // Performance notes (bench/triax_bench.cpp measures them): the pairs of a
 // 512-particle chunk are first tested for contact in one branch-free pass,
 // then only the contacts are evaluated, 8 at a time for spheres: their
@@ -145,7 +149,8 @@ class ContactForces {
   /// then the one without dashpots (a separate instantiation).
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
-  /// Whether the last compute() summed in the pair loop.
+  /// Whether the last compute() summed in the pair loop on one thread (on
+  /// several, split_gathered() tells how the sums were made).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
   /// Sphere path on several threads: particles of the last compute() whose
   /// sums took the gather (split_sums.h); 0 otherwise.

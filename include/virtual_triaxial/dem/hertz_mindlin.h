@@ -64,7 +64,7 @@ class HertzMindlin {
 
   /// Evaluate one contact.
   ///   n        unit normal from i to j
-  ///   delta    overlap > 0 [m]
+  ///   delta    overlap >= 0 [m] (0: no force, and the spring is dropped)
   ///   r_eff    R* [m]
   ///   dv_t_dt  tangential relative displacement increment of j w.r.t. i over
   ///            the step [m] (already projected into the tangent plane)

@@ -84,7 +84,7 @@
 // Swapping i and j gives n -> -n and the same overlap (to rounding).
 // Cost (one core; tests/unit/test_spheroid_contact.cpp prints it): a Newton
 // step is ~90 flops with 2 square roots and 4 divisions on its critical path.
-// The pair loop (contact_forces.cpp) first evaluates g at the warm start for
+// The pair loop (src/dem/spheroid_pairs.cpp) first evaluates g at the warm start for
 // its separation certificate and passes those support values in
 // (SpheroidStart), so a warm solve repeats none of them.
 // Warm start: 1 step when the extrapolated normal is within 1e-5 rad (steady
@@ -151,7 +151,7 @@ struct SpheroidContact {
 /// A^-1 = b2 I + k e e^T, support function h(n) = sqrt(b2 + k (e.n)^2) [m].
 /// Building it costs one quaternion rotation (e = q (1,0,0)); a caller with
 /// many pairs per particle builds it once per particle and step (the pair
-/// loop of contact_forces.cpp does) and passes it to the overloads below,
+/// loop of src/dem/spheroid_pairs.cpp does) and passes it to the overloads below,
 /// which give bit for bit the results of the Spheroid overloads.
 struct SpheroidSupport {
   double b2 = 0.0;     ///< b^2 [m^2]

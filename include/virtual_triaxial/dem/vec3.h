@@ -44,7 +44,7 @@ inline Vec3 fused_multiply_add(double s, const Vec3& a, const Vec3& b) {
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 /// c ? a : b per component: a select, not a jump (so that a loop over
-/// contacts that uses it can run as SIMD; see contact_forces.cpp).
+/// contacts that uses it can run as SIMD; see src/dem/sphere_pairs.cpp).
 inline Vec3 select(bool c, const Vec3& a, const Vec3& b) {
   return {c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z};
 }

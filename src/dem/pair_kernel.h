@@ -1,0 +1,103 @@
+// What the pair kernels of ContactForces share (contact_forces.h): the
+// inputs of one evaluation as plain pointers, the software prefetch
+// distances, the component-wise Vec3 store and the viscous dashpots; and the
+// two kernels, one per file: spheres (sphere_pairs.cpp, contacts 8 at a
+// time as SIMD) and particles that include spheroids (spheroid_pairs.cpp).
+// Private to src/dem.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "virtual_triaxial/dem/contact_forces.h"
+
+namespace vt::dem::pairs {
+
+// Software prefetch distances (measured on the 1e5-particle bench, where the
+// particle data of a partner and the pair state of a reverse entry are
+// usually not in cache; no effect when everything fits in cache):
+constexpr std::int32_t kPrefetchEntries = 24;   // pass 1: partner data, entries ahead
+constexpr std::int32_t kPrefetchContacts = 6;   // pass 2: pair state and spring, contacts ahead
+constexpr std::int32_t kPrefetchParticles = 6;  // gather: pair states, particles ahead
+
+/// Stores v at *dst one component at a time. A whole-Vec3 assignment in the
+/// pair loops was compiled as two 8-byte stores to a stack slot and a 16-byte
+/// reload (a store-forwarding stall of about 15 cycles; perf showed 12-15 %
+/// of the step on each of the two such stores of the sphere loop).
+inline void store(Vec3& dst, const Vec3& v) {
+  dst.x = v.x;
+  dst.y = v.y;
+  dst.z = v.z;
+}
+
+/// Everything the pair loop reads, as plain pointers and local copies (a
+/// store through a double* could otherwise alias the cell matrix or the law's
+/// coefficients and force a reload on every pair).
+struct PairInputs {
+  const Vec3* frac;
+  const Vec3* vel;
+  const Vec3* omg;
+  const double* rad;
+  const std::int32_t* off;
+  const std::int32_t* owner;
+  const std::int32_t* partner;
+  Vec3* spring;
+  PairState* state;
+  std::uint8_t* active;
+  // spheroid path only (null/unused for spheres)
+  const Vec3* axes;
+  const SpheroidSupport* body;  // per particle, this evaluation
+  const double* hertz_radius;   // per particle: R_i of eq. 104, this evaluation
+  double clock;                 // motion clock [m] (ContactForces::set_motion_clock); +inf: no sleep
+  bool sleep;                   // pairs found apart sleep
+  const Shape* shape;
+  SpheroidPairState* sph;
+  Mat3 h, lgrad;
+  HertzMindlin law;
+  double dt;
+  // Per-particle force and torque summed right in pass 2, in list order (the
+  // gather's order, see ContactForces::compute): the arrays themselves on
+  // one thread, the thread's buffers on several (split_sums.h); null when
+  // a gather makes the sums.
+  Vec3* force_out;
+  Vec3* torque_out;
+  // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
+  const double* mass;
+  double viscous_a;
+};
+
+/// The viscous contact dashpots (viscous_contact_damping.h) of a pair of
+/// masses m_i, m_j: adds them to the force on j and returns the power they
+/// take [W] (normal always; tangential while the contact sticks). A select,
+/// not a jump, for sliding (the sphere contact lanes run it as SIMD).
+inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& law, double delta, double r_eff,
+                           const Vec3& nrm, const Vec3& vc, bool sliding, Vec3& f) {
+  const double eta_n = a * std::sqrt(mi * mj / (mi + mj) * law.normal_stiffness(delta, r_eff));
+  const double vn = dot(vc, nrm);
+  f -= (eta_n * vn) * nrm;
+  const double eta_t = eta_n * std::sqrt(law.tangential_ratio());  // a sqrt(m* K_t), K_t = ratio K_n
+  const Vec3 vt = vc - vn * nrm;
+  Vec3 stuck = f;
+  stuck -= eta_t * vt;
+  f = select(sliding, f, stuck);
+  const double normal_power = eta_n * vn * vn;
+  double power = normal_power;
+  power += eta_t * norm2(vt);  // the operations of the branching form
+  return sliding ? normal_power : power;
+}
+
+/// A pair kernel: evaluates the pairs owned by particles [i_begin, i_end)
+/// (list entries off[i_begin] .. off[i_end]), stores each entry's result in
+/// the list, adds to in.force_out / in.torque_out when set, and returns the
+/// chunk's sums. The last four arguments are per-thread scratch
+/// (ContactForces::Scratch).
+using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,
+                                   Vec3*, double*);
+
+/// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy and
+/// force norms, `viscous` the contact dashpots.
+PairKernel sphere_pair_kernel(bool measure, bool viscous);
+/// Kernel for particles that include spheroids (spheroid_pairs.cpp).
+PairKernel spheroid_pair_kernel(bool measure, bool viscous);
+
+}  // namespace vt::dem::pairs
