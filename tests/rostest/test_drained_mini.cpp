@@ -50,6 +50,7 @@
 #include "virtual_triaxial/Stress.h"
 
 #include "support/rig_test_helpers.h"
+#include "support/stress_strain_log.h"
 
 namespace vtm = virtual_triaxial;
 
@@ -75,9 +76,7 @@ struct Series {
 /// Subscriptions and service calls of the test node.
 class Rig {
  public:
-  Rig() {
-    stress_sub_ = nh_.subscribe("stress", 100000, &Rig::on_stress, this);
-    strain_sub_ = nh_.subscribe("strain", 100000, &Rig::on_strain, this);
+  Rig() : log_(nh_) {
     clock_sub_ = nh_.subscribe("/clock", 100000, &Rig::on_clock, this);
   }
 
@@ -116,7 +115,7 @@ class Rig {
     return t.response;
   }
 
-  bool connected() const { return stress_sub_.getNumPublishers() > 0 && strain_sub_.getNumPublishers() > 0; }
+  bool connected() const { return log_.connected(); }
 
   /// Drained shear for kTicks control ticks from the current (paused) state.
   Series run() {
@@ -132,14 +131,8 @@ class Rig {
     EXPECT_TRUE(call("step", st));
     EXPECT_TRUE(st.response.success) << st.response.message;
     const std::uint64_t last = r.k0 + kTicks;
-    EXPECT_TRUE(wait_until([&] { return latest(last); }, 300.0)) << "tick " << last << " not received";
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (std::uint64_t k = r.k0 + 1; k <= last; ++k) {
-      auto a = stress_.find(k);
-      auto b = strain_.find(k);
-      if (a != stress_.end()) r.stress.push_back(a->second);
-      if (b != strain_.end()) r.strain.push_back(b->second);
-    }
+    EXPECT_TRUE(wait_until([&] { return log_.has(last); }, 300.0)) << "tick " << last << " not received";
+    log_.copy(r.k0 + 1, last, r.stress, r.strain);  // a missing tick shortens the series (checked by the tests)
     return r;
   }
 
@@ -149,28 +142,15 @@ class Rig {
   }
 
  private:
-  bool latest(std::uint64_t tick) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return stress_.count(tick) && strain_.count(tick);
-  }
-  void on_stress(const vtm::Stress::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stress_[m->tick] = *m;
-  }
-  void on_strain(const vtm::Strain::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    strain_[m->tick] = *m;
-  }
   void on_clock(const rosgraph_msgs::Clock::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex_);
     clocks_.push_back(m->clock);
   }
 
   ros::NodeHandle nh_;
-  ros::Subscriber stress_sub_, strain_sub_, clock_sub_;
-  std::mutex mutex_;
-  std::map<std::uint64_t, vtm::Stress> stress_;
-  std::map<std::uint64_t, vtm::Strain> strain_;
+  vt::rostest::StressStrainLog log_;
+  ros::Subscriber clock_sub_;
+  std::mutex mutex_;  // clocks_
   std::vector<ros::Time> clocks_;
 };
 

@@ -38,6 +38,7 @@
 #include "virtual_triaxial/Stress.h"
 
 #include "rig_test_helpers.h"
+#include "stress_strain_log.h"
 
 namespace vtm = virtual_triaxial;
 namespace fs = std::filesystem;
@@ -99,16 +100,13 @@ struct TestRun {
 
 class Rig {
  public:
-  Rig() : client_("run_test", false) {
-    stress_sub_ = nh_.subscribe("stress", 100000, &Rig::on_stress, this);
-    strain_sub_ = nh_.subscribe("strain", 100000, &Rig::on_strain, this);
+  Rig() : client_("run_test", false), log_(nh_) {
     status_sub_ = nh_.subscribe("protocol_status", 100000, &Rig::on_status, this);
   }
 
   bool ready() {
     return wait_until([&] { return client_.isServerConnected(); }, 60.0) &&
-           wait_until([&] { return stress_sub_.getNumPublishers() > 0 && strain_sub_.getNumPublishers() > 0 &&
-                                   status_sub_.getNumPublishers() > 0; },
+           wait_until([&] { return log_.connected() && status_sub_.getNumPublishers() > 0; },
                       30.0);
   }
 
@@ -133,10 +131,9 @@ class Rig {
   /// result (wall time) and collects the messages of its ticks.
   TestRun run(const vtm::RunTestGoal& goal, double timeout = kRunTimeout,
           const std::function<void(Client&)>& during = {}) {
+    log_.clear();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      stress_.clear();
-      strain_.clear();
       status_.clear();
     }
     TestRun r;
@@ -156,19 +153,11 @@ class Rig {
     r.last = info().tick;  // the rig halts right after the last tick of the test
     r.first = r.last - r.result.ticks + 1;
     // the state of the last tick may still be on its way
-    EXPECT_TRUE(wait_until([&] { return have(r.last); }, 10.0)) << "no stress/strain for tick " << r.last;
+    EXPECT_TRUE(wait_until([&] { return log_.has(r.last); }, 10.0)) << "no stress/strain for tick " << r.last;
     wait_until([&] { return last_status_done(); }, 5.0);
+    const std::uint64_t missing = log_.copy(r.first, r.last, r.stress, r.strain);
+    if (missing <= r.last) ADD_FAILURE() << "tick " << missing << " of the run not received";
     std::lock_guard<std::mutex> lock(mutex_);
-    for (std::uint64_t k = r.first; k <= r.last; ++k) {
-      auto a = stress_.find(k);
-      auto b = strain_.find(k);
-      if (a == stress_.end() || b == strain_.end()) {
-        ADD_FAILURE() << "tick " << k << " of the run not received";
-        break;
-      }
-      r.stress.push_back(a->second);
-      r.strain.push_back(b->second);
-    }
     r.status = status_;
     for (const vtm::ProtocolStatus& s : status_)
       if (!s.stage.empty() && s.tick > 0 && s.tick > r.stage_end[s.stage]) r.stage_end[s.stage] = s.tick;
@@ -176,21 +165,9 @@ class Rig {
   }
 
  private:
-  bool have(std::uint64_t k) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return stress_.count(k) && strain_.count(k);
-  }
   bool last_status_done() {
     std::lock_guard<std::mutex> lock(mutex_);
     return !status_.empty() && status_.back().state != "running";
-  }
-  void on_stress(const vtm::Stress::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stress_[m->tick] = *m;
-  }
-  void on_strain(const vtm::Strain::ConstPtr& m) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    strain_[m->tick] = *m;
   }
   void on_status(const vtm::ProtocolStatus::ConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -199,10 +176,9 @@ class Rig {
 
   ros::NodeHandle nh_;
   Client client_;
-  ros::Subscriber stress_sub_, strain_sub_, status_sub_;
-  std::mutex mutex_;
-  std::map<std::uint64_t, vtm::Stress> stress_;
-  std::map<std::uint64_t, vtm::Strain> strain_;
+  vt::rostest::StressStrainLog log_;
+  ros::Subscriber status_sub_;
+  std::mutex mutex_;  // status_
   std::vector<vtm::ProtocolStatus> status_;
 };
 
