@@ -28,26 +28,28 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   alpha_ = alpha;
   spheroids_ = p.has_spheroids();
   const std::size_t n = p.size();
-  reserve_huge(coef_, n);
-  coef_.resize(n);
+  const std::size_t blocks = (n + kLanes - 1) / kLanes;
+  reserve_huge(coef_, blocks);
+  coef_.assign(blocks, CoefficientLanes{});
   rot_coef_.resize(spheroids_ ? n : 0);
   for (std::size_t i = 0; spheroids_ && i < n; ++i)
     rot_coef_[i] = SymmetricStepConstants::of(p.inertia[i], alpha[i], dt);
   for (std::size_t i = 0; i < n; ++i) {
     const double half = 0.5 * alpha[i] * dt;
-    Coefficients& c = coef_[i];
-    c.decay = (1.0 - half) / (1.0 + half);           // eq. 2, first factor
-    c.kick = dt / ((1.0 + half) * p.mass[i]);         // eq. 2, second factor / m
-    c.kick_rot = dt / ((1.0 + half) * p.inertia[i].x);  // sphere: isotropic I
-    c.alpha_dt = alpha[i] * dt;
-    c.mass = p.mass[i];
-    c.inertia = p.inertia[i].x;
+    CoefficientLanes& c = coef_[i / kLanes];
+    const std::size_t k = i % kLanes;
+    c.decay[k] = (1.0 - half) / (1.0 + half);           // eq. 2, first factor
+    c.kick[k] = dt / ((1.0 + half) * p.mass[i]);         // eq. 2, second factor / m
+    c.kick_rot[k] = dt / ((1.0 + half) * p.inertia[i].x);  // sphere: isotropic I
+    c.alpha_dt[k] = alpha[i] * dt;
+    c.mass[k] = p.mass[i];
+    c.inertia[k] = p.inertia[i].x;
   }
 }
 
 template <bool Spheroids, bool Local>
 IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
-                                                  bool measure) const {
+                                                  bool measure, IntegrationSums acc) const {
   const Mat3 hinv = in.hinv;
   const Mat3 h = in.h;
   const double dt = dt_;
@@ -57,13 +59,11 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
   const Vec3* f_in = in.f_in;
   const Vec3* t_in = in.t_in;
   const Vec3* s_build = in.s_build;
-  const Coefficients* coef = coef_.data();
   const LocalDamping local = local_;
-  IntegrationSums acc;
   for (std::size_t i = i_begin; i < i_end; ++i) {
     const Vec3 v_old = vel[i];
     const Vec3 w_old = omg[i];
-    const Coefficients& k = coef[i];
+    const Coefficients k = coefficients(i);
     Vec3 f = f_in[i], t = t_in[i];
     if constexpr (Local) {  // local_damping.h: velocity estimates at the force's time (YADE)
       f = local.damped(f, v_old + (0.5 * k.kick) * f);
@@ -143,6 +143,80 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
   return acc;
 }
 
+/// Spheres without local damping, kLanes particles at a time: the update of
+/// every lane (eq. 2 kick and drift, the wrap, the displacement since the
+/// list build) computed by one loop without jumps, which the compiler turns
+/// into SIMD, with the same operations as advance_chunk<false, false>; then
+/// the sums and maxima taken one particle at a time in storage order, so
+/// every sum sees the same terms in the same order (bit for bit the same
+/// result). The last, partial group goes through advance_chunk.
+template <bool Measure>
+IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, std::size_t i_begin,
+                                                         std::size_t i_end) const {
+  const Mat3 hinv = in.hinv;
+  const Mat3 h = in.h;
+  const double dt = dt_;
+  // The Vec3 arrays as doubles (x, y, z of particle i at 3i, 3i+1, 3i+2):
+  // the vectoriser takes their stride-3 groups only in that form.
+  double* vel = &in.vel->x;
+  double* omg = &in.omg->x;
+  double* frac = &in.frac->x;
+  const double* f_in = &in.f_in->x;
+  const double* t_in = &in.t_in->x;
+  const double* s_build = &in.s_build->x;
+  IntegrationSums acc;
+  static_assert(kChunkSize % kLanes == 0, "chunks start at a lane block");
+  std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
+  for (; i0 + kLanes <= i_end; i0 += kLanes) {
+    double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
+    // The arrays are distinct (StepInputs): no lane reads what another writes.
+#pragma GCC ivdep
+    for (std::size_t k = 0; k < kLanes; ++k) {
+      const std::size_t i = i0 + k;
+      const Vec3 v_old{vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
+      const Vec3 w_old{omg[3 * i], omg[3 * i + 1], omg[3 * i + 2]};
+      const CoefficientLanes& c = coef_[i0 / kLanes];
+      const Vec3 f{f_in[3 * i], f_in[3 * i + 1], f_in[3 * i + 2]}, t{t_in[3 * i], t_in[3 * i + 1], t_in[3 * i + 2]};
+      const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
+      const Vec3 w_new = c.decay[k] * w_old + c.kick_rot[k] * t;
+      vel[3 * i] = v_new.x; vel[3 * i + 1] = v_new.y; vel[3 * i + 2] = v_new.z;
+      omg[3 * i] = w_new.x; omg[3 * i + 1] = w_new.y; omg[3 * i + 2] = w_new.z;
+      const Vec3 v_mid = 0.5 * (v_old + v_new);
+      const Vec3 w_mid = 0.5 * (w_old + w_new);
+      const double m = c.mass[k];
+      const double inert = c.inertia[k];
+      diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + inert * norm2(w_mid));
+      if constexpr (Measure) {
+        ekt[k] = 0.5 * m * norm2(v_mid);
+        ekr[k] = 0.5 * inert * norm2(w_mid);
+        mom[k] = norm2(w_new - w_old);  // its root below: std::sqrt would branch (errno)
+      }
+      const Vec3 s = PeriodicCell::wrap(Vec3{frac[3 * i], frac[3 * i + 1], frac[3 * i + 2]} + hinv * (dt * v_new));
+      frac[3 * i] = s.x; frac[3 * i + 1] = s.y; frac[3 * i + 2] = s.z;
+      const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{s_build[3 * i], s_build[3 * i + 1], s_build[3 * i + 2]});
+      d2[k] = norm2(h * ds);
+      v2[k] = norm2(v_new);
+      w2[k] = norm2(w_new);
+      fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
+    }
+    for (std::size_t k = 0; k < kLanes; ++k) {
+      acc.damping_dissipation += diss[k];
+      if constexpr (Measure) {
+        acc.kinetic_translational += ekt[k];
+        acc.kinetic_rotational += ekr[k];
+        acc.sum_inertia_moment += coef_[i0 / kLanes].inertia[k] / dt * std::sqrt(mom[k]);
+      }
+      acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
+      acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
+      acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
+      if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+    }
+  }
+  // The tail continues the same sums in the same order.
+  if (i0 < i_end) acc = advance_chunk<false, false>(in, i0, i_end, Measure, acc);
+  return acc;
+}
+
 IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
                                             const std::vector<Vec3>& force,
                                             const std::vector<Vec3>& torque,
@@ -181,7 +255,8 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
                             : advance_chunk<false, true>(in, i_begin, i_end, measure);
       else
         sums[c] = spheroids ? advance_chunk<true, false>(in, i_begin, i_end, measure)
-                            : advance_chunk<false, false>(in, i_begin, i_end, measure);
+              : measure   ? advance_sphere_lanes<true>(in, i_begin, i_end)
+                          : advance_sphere_lanes<false>(in, i_begin, i_end);
     }
     if (shared) runs->record(t, omp_get_wtime() - start);
   }

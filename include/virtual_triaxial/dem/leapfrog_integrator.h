@@ -79,7 +79,7 @@ class LeapfrogIntegrator {
                           bool measure, ThreadRuns* runs = nullptr);
 
  private:
-  /// Per-particle constants of eq. 2, packed (the integrator streams them).
+  /// Per-particle constants of eq. 2 of one particle.
   struct Coefficients {
     double decay = 0;     ///< (1 - a dt/2) / (1 + a dt/2)
     double kick = 0;      ///< dt / ((1 + a dt/2) m)
@@ -88,6 +88,19 @@ class LeapfrogIntegrator {
     double mass = 0;      ///< m [kg]
     double inertia = 0;   ///< I [kg m^2] (sphere)
   };
+  /// The same for kLanes consecutive particles, field by field: one stream
+  /// for the integrator, and each field contiguous over the lanes of
+  /// advance_sphere_lanes (SIMD).
+  static constexpr std::size_t kLanes = 8;
+  struct CoefficientLanes {
+    double decay[kLanes] = {}, kick[kLanes] = {}, kick_rot[kLanes] = {};
+    double alpha_dt[kLanes] = {}, mass[kLanes] = {}, inertia[kLanes] = {};
+  };
+  Coefficients coefficients(std::size_t i) const {
+    const CoefficientLanes& c = coef_[i / kLanes];
+    const std::size_t k = i % kLanes;
+    return {c.decay[k], c.kick[k], c.kick_rot[k], c.alpha_dt[k], c.mass[k], c.inertia[k]};
+  }
   /// Per-particle arrays of one advance() (plain pointers, no aliasing).
   struct StepInputs {
     Vec3* vel;
@@ -101,16 +114,21 @@ class LeapfrogIntegrator {
     const Vec3* s_build;
     Mat3 hinv, h;
   };
-  /// Particles [i_begin, i_end); Spheroids = false is the plain sphere loop.
+  /// Particles [i_begin, i_end), their sums added to `acc` in storage order;
+  /// Spheroids = false is the plain sphere loop.
   template <bool Spheroids, bool Local>
   IntegrationSums advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
-                                bool measure) const;
+                                bool measure, IntegrationSums acc = {}) const;
+  /// advance_chunk<false, false> kLanes particles at a time (SIMD), bit for
+  /// bit the same result.
+  template <bool Measure>
+  IntegrationSums advance_sphere_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 
   double dt_ = 0;
   bool spheroids_ = false;
   LocalDamping local_;
   std::vector<double> alpha_;
-  std::vector<Coefficients> coef_;
+  std::vector<CoefficientLanes> coef_;  ///< particle i: coef_[i / kLanes], lane i % kLanes
   std::vector<SymmetricStepConstants> rot_coef_;  ///< spheroids (empty without any)
   std::vector<IntegrationSums> chunk_sums_;
 };
