@@ -20,8 +20,9 @@ What runs (units SI, compression positive):
     rank per thread (mpirun -np T).
   ours: triax_run on a protocol with one drained_shear stage (same rate,
     lateral PID servo at 100 kPa, OD damping xi of the sample) to the same
-    axial strain, at c_t 0.3 ("ct0.3", the default) and with the time step
-    from the contacts ("contacts", dem/contact_time_step.h); OMP threads T.
+    axial strain, at c_t 0.3 ("ct0.3", dt = 0.3 T0) and with the time step
+    from the contacts ("contacts", dem/contact_time_step.h: the default of
+    a protocol that sets neither); OMP threads T.
 Prints per case the medians over rounds of: dt/T0, steps, wall time to the
 strain, cost per particle-step (LAMMPS: its "Loop time"; ours: the run's
 wall time), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the

@@ -193,6 +193,21 @@ TEST(SceneParser, TimeStepRatioAboveOneIsAcceptedWithAWarning) {
   EXPECT_FALSE(lo.time_step_warning);
 }
 
+TEST(SceneParser, TimeStepBasisDefaultsToContactsUnlessTheFileSetsTheRatio) {
+  using vt::dem::TimeStepBasis;
+  // Neither key: the step from the contacts (issue 13), c_t left at 0.3 unused.
+  const SceneConfig plain = vt::io::parse_scene(scene(""));
+  EXPECT_EQ(plain.time_step_basis, TimeStepBasis::Contacts);
+  EXPECT_FALSE(plain.time_step_warning);
+  // c_t alone: dt = c_t T0 as the file says.
+  EXPECT_EQ(vt::io::parse_scene(scene("time_step_ratio: 0.3\n")).time_step_basis, TimeStepBasis::ReferenceTime);
+  // An explicit basis wins either way.
+  EXPECT_EQ(vt::io::parse_scene(scene("time_step_basis: reference\n")).time_step_basis,
+            TimeStepBasis::ReferenceTime);
+  EXPECT_EQ(vt::io::parse_scene(scene("time_step_ratio: 0.2\ntime_step_basis: contacts\n")).time_step_basis,
+            TimeStepBasis::Contacts);
+}
+
 // ---- errors: field() names the dotted path ---------------------------------------
 
 struct ErrorCase {

@@ -90,7 +90,9 @@ struct SceneConfig {
   dem::Vec3 cell_aspect{1, 1, 1};      ///< for Distribution
   dem::MassDamping damping;
   double time_step_ratio = 0.3;
-  /// time_step_basis: contacts -> dt from the contacts (dem/contact_time_step.h)
+  /// time_step_basis: contacts -> dt from the contacts (dem/contact_time_step.h).
+  /// A YAML scene defaults to contacts unless it sets time_step_ratio
+  /// (scene_parser.cpp); a SceneConfig built in code keeps c_t.
   dem::TimeStepBasis time_step_basis = dem::TimeStepBasis::ReferenceTime;
   double time_step_safety = dem::SimulationSettings{}.time_step_safety;
   double time_step_max_ratio = dem::SimulationSettings{}.time_step_max_ratio;
