@@ -223,14 +223,21 @@ bool NeighborList::stale(double max_disp2, const PeriodicCell& cell) const {
 }
 
 std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
+  const auto kept = [this](std::int32_t e) {
+    const Vec3& s = pairs_.spring[e];
+    return pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0 ||
+           (spheroids_ && pairs_.spheroid[e].cache.valid);
+  };
+  std::size_t count = 0;  // sized first: an entry is large and the runners copy the state every sample
+  for (std::int32_t e = 0; e < (offsets_.empty() ? 0 : offsets_.back()); ++e) count += kept(e) ? 1 : 0;
   std::vector<ContactHistory> out;
+  out.reserve(count);
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e) {
-      const Vec3& s = pairs_.spring[e];
+      if (!kept(e)) continue;
       const bool cached = spheroids_ && pairs_.spheroid[e].cache.valid;
-      if (pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0 || cached)
-        out.push_back({p.id[i], p.id[pairs_.partner[e]], s,
-                       cached ? pairs_.spheroid[e].cache : SpheroidContactCache{}});
+      out.push_back({p.id[i], p.id[pairs_.partner[e]], pairs_.spring[e],
+                     cached ? pairs_.spheroid[e].cache : SpheroidContactCache{}});
     }
   std::sort(out.begin(), out.end(), [](const ContactHistory& a, const ContactHistory& b) {
     return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
