@@ -24,8 +24,10 @@ What runs (units SI, compression positive):
     from the contacts ("contacts", dem/contact_time_step.h: the default of
     a protocol that sets neither); OMP threads T.
 Prints per case the medians over rounds of: dt/T0, steps, wall time to the
-strain, cost per particle-step (LAMMPS: its "Loop time"; ours: the run's
-wall time), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the
+strain (LAMMPS: its "Loop time", without its setup; ours: the run's wall
+time, with the stage's setup and first results flush), the whole process's
+wall time (proc_s: start-up, reading the sample, the run, writing the
+results; what a user waits for), cost per particle-step (from the first), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the
 end; the load average beside each round. Data in OUT/side_by_side.json.
 """
 import argparse
@@ -192,38 +194,42 @@ def main():
             env = dict(os.environ, OMP_NUM_THREADS="1")
             cmd = ([a.lmp] if t == "1" else ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", t, a.lmp])
             ld = load()
+            t_proc = time.perf_counter()
             p = subprocess.run(cmd + ["-in", "in.triax", "-log", "none", "-screen", "lammps.out"], cwd=out, env=env,
                                capture_output=True, text=True)
+            t_proc = time.perf_counter() - t_proc
             with open(os.path.join(out, "lammps.out")) as f:
                 log = f.read()
             if p.returncode != 0 or "Loop time" not in log:
                 sys.exit(f"lammps_side_by_side: lmp failed (see {out}/lammps.out): {p.stderr[-500:]}")
             r = parse_lammps(log, s["n"])
-            r["dt_t0"], r["load"] = a.lammps_ct, ld
+            r["dt_t0"], r["load"], r["proc"] = a.lammps_ct, ld, t_proc
             cases.setdefault(("LAMMPS", t), []).append(r)
             for c in a.ours.split():
                 env = dict(os.environ, OMP_NUM_THREADS=t)
                 res = os.path.join(out, f"ours_{c}.h5")
                 ld = load()
+                t_proc = time.perf_counter()
                 p = subprocess.run([os.path.join(BIN, "triax_run"), os.path.join(out, f"ours_{c}.yaml"), "--out", res,
                                     "--quiet"], env=env, capture_output=True, text=True)
+                t_proc = time.perf_counter() - t_proc
                 if p.returncode != 0:
                     sys.exit(f"lammps_side_by_side: triax_run failed: {p.stderr[-500:]}")
                 r = parse_ours(p.stdout.strip().splitlines()[-1], res, s["n"])
-                r["load"] = ld
+                r["load"], r["proc"] = ld, t_proc
                 cases.setdefault((f"ours {c}", t), []).append(r)
         print(f"# round {rnd + 1}/{a.rounds} done, load {load()}", flush=True)
-    print(f"{'code':<16} {'T':>2} {'dt/T0':>7} {'steps':>7} {'wall_s':>8} {'us/p-step':>10} "
+    print(f"{'code':<16} {'T':>2} {'dt/T0':>7} {'steps':>7} {'wall_s':>8} {'proc_s':>7} {'us/p-step':>10} "
           f"{'q/p@0.8-1.0':>11} {'eps_v_end':>10} {'phi_pk':>6} {'sig_lat':>7} {'loads'}")
     table = []
     for (code, t), rs in cases.items():
         med = lambda k: statistics.median(r[k] for r in rs)
         qp, ev, lat = window(rs[0], a.strain)
-        row = {"code": code, "threads": int(t), "dt_t0": med("dt_t0"), "steps": med("steps"), "wall_s": med("wall"),
+        row = {"code": code, "threads": int(t), "dt_t0": med("dt_t0"), "steps": med("steps"), "wall_s": med("wall"), "process_s": med("proc"),
                "us_per_particle_step": med("us"), "qp_window": qp, "eps_v_end": ev, "sigma_lat_window_pa": lat, "phi_peak_deg": rs[0]["phi_peak"],
                "loads": [r["load"] for r in rs], "walls": [r["wall"] for r in rs]}
         table.append(row)
-        print(f"{code:<16} {t:>2} {row['dt_t0']:7.3f} {row['steps']:7.0f} {row['wall_s']:8.2f} "
+        print(f"{code:<16} {t:>2} {row['dt_t0']:7.3f} {row['steps']:7.0f} {row['wall_s']:8.2f} {row['process_s']:7.2f} "
               f"{row['us_per_particle_step']:10.4f} {qp:11.4f} {ev:10.5f} {rs[0]['phi_peak']:6.2f} {lat / 1e3:7.1f} {' '.join(row['loads'])}")
     with open(os.path.join(out, "side_by_side.json"), "w") as f:
         json.dump({"sample": a.sample, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
