@@ -426,7 +426,7 @@ SceneConfig parse_document(const YAML::Node& doc, const std::string& source_path
   // The default basis (issue 13): the time step from the contacts
   // (dem/contact_time_step.h), as fast as the contacts allow and, measured
   // on eight dense samples, the same answer within the sample's scatter
-  // (README "Choosing the rate, the time step and the damping"); a file
+  // (README "The time step: from the contacts by default"); a file
   // that sets c_t without a basis keeps dt = c_t T0 (eq. 132).
   const std::string basis = top.string_or(
       "time_step_basis", dem::to_string(top.has("time_step_ratio") ? dem::TimeStepBasis::ReferenceTime
