@@ -15,8 +15,10 @@ at eps', lateral PID servo at 100 kPa, one thread) twice: at c_t = 0.3
 eps_a in [0.8, 1.0] x strain, eps_v at the end, phi_peak, steps, wall time.
 Summary: the sample-to-sample scatter (standard deviation over the seeds)
 of each measure at c_t 0.3, and the mean and standard deviation of the
-paired difference contacts - ct0.3; the contact step is "within the
-sample's scatter" when |mean difference| is below the scatter at c_t 0.3.
+paired difference contacts - ct0.3 with its paired t (mean / standard
+error: |t| above about 2.4 at 8 samples marks a systematic shift); the
+contact step is "within the sample's scatter" when |mean difference| is
+below the scatter at c_t 0.3.
 Data in OUT/time_step_scatter.json. Units SI, compression positive.
 """
 import argparse
@@ -43,9 +45,11 @@ def sample_for(seed, out):
     path = os.path.join(out, f"dense_1000_s{seed}.h5")
     if not os.path.exists(path):
         print(f"# preparing seed {seed} (about a minute)", flush=True)
+        part = path + ".part"  # renamed when complete: an interrupted preparation is not reused
         subprocess.run([os.path.join(BIN, "triax_prepare"), "--psd", PSD, "--pressure", "100000", "--mu1", "0.0",
-                        "--seed", str(seed), "--particles", "1000", "--out", path],
+                        "--seed", str(seed), "--particles", "1000", "--out", part],
                        env=dict(os.environ, OMP_NUM_THREADS="1"), check=True, stdout=subprocess.DEVNULL)
+        os.replace(part, path)
     return path
 
 
@@ -57,6 +61,7 @@ def run(sample, config, a, out):
     res = os.path.join(out, f"ours_{config}.h5")
     if os.path.exists(res):
         os.remove(res)
+    ld = load()  # before the run, as bench/lammps_side_by_side.py
     p = subprocess.run([os.path.join(BIN, "triax_run"), proto, "--out", res, "--quiet"],
                        env=dict(os.environ, OMP_NUM_THREADS="1"), capture_output=True, text=True)
     if p.returncode != 0:
@@ -64,7 +69,7 @@ def run(sample, config, a, out):
     r = parse_ours(p.stdout.strip().splitlines()[-1], res, s["n"])
     qp, ev, _ = window(r, a.strain)
     return {"qp_window": qp, "eps_v_end": ev, "phi_peak_deg": r["phi_peak"], "dt_t0": r["dt_t0"],
-            "steps": r["steps"], "wall_s": r["wall"], "load": load()}
+            "steps": r["steps"], "wall_s": r["wall"], "load": ld}
 
 
 def main():
@@ -94,7 +99,7 @@ def main():
                   f"{r['qp_window']:11.4f} {r['eps_v_end']:10.5f} {r['phi_peak_deg']:6.2f} {r['load']:>5}", flush=True)
     summary = {}
     print(f"{'measure':<13} {'mean ct0.3':>11} {'scatter(sd)':>11} {'mean contacts':>13} "
-          f"{'mean diff':>10} {'sd diff':>9} {'|diff|<scatter':>14}")
+          f"{'mean diff':>10} {'sd diff':>9} {'paired t':>8} {'|diff|<scatter':>14}")
     for m in MEASURES:
         base = [r[m] for r in rows if r["case"] == "ct0.3"]
         fast = [r[m] for r in rows if r["case"] == "contacts"]
@@ -102,10 +107,12 @@ def main():
         s = {"mean_ct0.3": statistics.mean(base), "scatter_ct0.3": statistics.stdev(base),
              "mean_contacts": statistics.mean(fast), "mean_diff": statistics.mean(diff),
              "sd_diff": statistics.stdev(diff)}
+        # paired t = mean / (sd / sqrt(n)): whether the shift is systematic, however small
+        s["paired_t"] = s["mean_diff"] / (s["sd_diff"] / len(diff) ** 0.5) if s["sd_diff"] > 0 else float("inf")
         s["within_scatter"] = abs(s["mean_diff"]) < s["scatter_ct0.3"]
         summary[m] = s
         print(f"{m:<13} {s['mean_ct0.3']:11.4f} {s['scatter_ct0.3']:11.4f} {s['mean_contacts']:13.4f} "
-              f"{s['mean_diff']:10.4f} {s['sd_diff']:9.4f} {'yes' if s['within_scatter'] else 'NO':>14}")
+              f"{s['mean_diff']:10.4f} {s['sd_diff']:9.4f} {s['paired_t']:8.2f} {'yes' if s['within_scatter'] else 'NO':>14}")
     speed = [b["wall_s"] / f["wall_s"] for b, f in zip(rows[0::2], rows[1::2])]
     print(f"# wall time ct0.3 / contacts per sample: median {statistics.median(speed):.2f}x "
           f"(single runs, {min(speed):.2f}-{max(speed):.2f}x)")

@@ -148,8 +148,9 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
 /// list build) computed by one loop without jumps, which the compiler turns
 /// into SIMD, with the same operations as advance_chunk<false, false>; then
 /// the sums and maxima taken one particle at a time in storage order, so
-/// every sum sees the same terms in the same order (bit for bit the same
-/// result). The last, partial group goes through advance_chunk.
+/// every sum sees the same terms in the same order (equal to round-off: the
+/// compiler may fuse multiply-adds differently in the two loops). The last,
+/// partial group of a chunk goes through advance_chunk.
 template <bool Measure>
 IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, std::size_t i_begin,
                                                          std::size_t i_end) const {

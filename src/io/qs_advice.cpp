@@ -54,13 +54,15 @@ QsAdvice build_qs_advice(const SceneConfig& scene, const dem::Simulation& sim,
   a.young_modulus = sim.state().settings.material.young;
   a.density = sim.state().settings.material.density;
   a.t0 = sim.time_scale().t0;
-  a.time_step_ratio = sim.time_scale().ct;
   a.damping = scene.damping.model() == dem::DampingModel::ND ? qs::QsDamping::ND : qs::QsDamping::OD;
   a.damping_ratio = scene.damping.ratio();
   a.threshold = scene.control.quasi_static_threshold;
 
   dem::Simulation probe(sim.state());
   probe.step(true);
+  // dt / T0 of the run: after one step, so that a time step from the contacts
+  // (derived at the first force evaluation) is the one planned with.
+  a.time_step_ratio = probe.time_scale().ct;
   const dem::Measures m = probe.measures();
   a.void_ratio = m.void_ratio;
   a.confining_pressure = st.confining_pressure ? *st.confining_pressure : m.p;

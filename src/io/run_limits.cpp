@@ -21,9 +21,13 @@ double physical_memory() {
 }  // namespace
 
 std::string check_scene_limits(const SceneConfig& scene, const RunLimits& limits) {
-  if (scene.time_step_ratio > limits.max_time_step_ratio)
+  // The largest dt / T0 the scene allows: c_t, or the contacts basis's ceiling.
+  if (scene.time_step_basis == dem::TimeStepBasis::ReferenceTime && scene.time_step_ratio > limits.max_time_step_ratio)
     return "time_step_ratio: " + num(scene.time_step_ratio) + " is above the limit " +
            num(limits.max_time_step_ratio) + " (c_t = dt / T0, eq. 132; the critical estimate is 1, eqs. 91-92)";
+  if (scene.time_step_basis == dem::TimeStepBasis::Contacts && scene.time_step_max_ratio > limits.max_time_step_ratio)
+    return "time_step_max_ratio: " + num(scene.time_step_max_ratio) + " is above the limit " +
+           num(limits.max_time_step_ratio) + " (the largest dt / T0 of the time step from the contacts)";
   double count = 0;
   std::string path;
   if (scene.source == ParticleSource::Distribution) {

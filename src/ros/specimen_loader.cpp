@@ -34,8 +34,12 @@ void SpecimenLoader::apply(Specimen& s) const {
     const double ratio = overrides_.damping_ratio ? *overrides_.damping_ratio : sim.settings().damping.ratio();
     sim.set_damping(dem::MassDamping(model, ratio));
   }
+  const bool contacts = sim.settings().time_step_basis == dem::TimeStepBasis::Contacts;
   if (overrides_.time_step_ratio) sim.set_time_step_ratio(*overrides_.time_step_ratio);
-  if (sim.settings().time_step_ratio >= 1.0)
+  if (overrides_.time_step_ratio && contacts)
+    s.warning += "~time_step_ratio is unused: this specimen takes its time step from the contacts "
+                 "(set time_step_ratio in the scene to use c_t); ";
+  if (!contacts && sim.settings().time_step_ratio >= 1.0)
     s.warning += "time_step_ratio " + std::to_string(sim.settings().time_step_ratio) +
                  " >= 1: the step exceeds the critical estimate; ";
   sim.reset_strain_reference();

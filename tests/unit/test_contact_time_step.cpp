@@ -13,7 +13,10 @@
 
 #include "support/scenes.h"
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/io/qs_advice.h"
 #include "virtual_triaxial/io/sample_file.h"
+#include "virtual_triaxial/io/scene_builder.h"
+#include "virtual_triaxial/io/scene_parser.h"
 
 namespace fs = std::filesystem;
 using namespace vt::dem;
@@ -122,4 +125,27 @@ TEST(ContactTimeStep, BadSettingsNameTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("time_step_safety"), std::string::npos) << e.what();
   }
+}
+
+// triax_qs / ~predict_quasi_static plan a scene's shear with the time step the
+// run will use: with the contacts basis that is the step derived at the first
+// force evaluation, not the c_t that a Simulation reports before it.
+TEST(ContactTimeStep, QsAdvicePlansWithTheStepFromTheContacts) {
+  const std::string yaml = std::string("particles: {sample_file: ") + VT_SOURCE_DIR +
+                           "/tests/data/sample_200_100kPa.h5}\n"
+                           "time_step_basis: contacts\n"
+                           "stages:\n"
+                           "  - {type: drained_shear, confining_pressure: 1.0e5, strain_rate_dimensionless: 1.0e-5,"
+                           " stop: {axial_strain: 0.01}}\n";
+  const vt::io::SceneConfig scene = vt::io::parse_scene(yaml);
+  const Simulation sim = vt::io::build_simulation(scene);
+  EXPECT_DOUBLE_EQ(sim.time_scale().ct, 0.3);  // the scene default c_t, unused by the contacts basis
+  Simulation probe(sim.state());
+  ASSERT_TRUE(probe.step(true));
+  const double ct = probe.time_scale().ct;
+  EXPECT_GT(ct, 0.5) << "a 100 kPa Hertz packing allows more than c_t 0.3";
+  const vt::io::QsAdvice a = vt::io::build_qs_advice(scene, sim, 1e-7);
+  EXPECT_EQ(a.time_step_ratio, ct);
+  // steps = eps_final / (c_t eps') (qs::plan_run)
+  EXPECT_NEAR(a.plan_requested.steps, 0.01 / (ct * 1e-5), 1.0);
 }

@@ -119,8 +119,11 @@ class LeapfrogIntegrator {
   template <bool Spheroids, bool Local>
   IntegrationSums advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
                                 bool measure, IntegrationSums acc = {}) const;
-  /// advance_chunk<false, false> kLanes particles at a time (SIMD), bit for
-  /// bit the same result.
+  /// advance_chunk<false, false> kLanes particles at a time (SIMD): the same
+  /// operations and sums in the same order; the compiler may fuse
+  /// multiply-adds differently in the two loops, so they agree to round-off.
+  /// Which particles take which loop depends only on the chunk bounds, so
+  /// results do not depend on the thread count.
   template <bool Measure>
   IntegrationSums advance_sphere_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 

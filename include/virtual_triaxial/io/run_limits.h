@@ -7,7 +7,8 @@
 //     servo limit (control.servo.max_dimensionless_rate) at most
 //     max_dimensionless_rate, which is also dem_node's
 //     ~max_dimensionless_rate default (the limit on its commands);
-//   - time step: c_t = dt / T0 (eq. 132) at most max_time_step_ratio
+//   - time step: c_t = dt / T0 (eq. 132), or with the time step from the
+//     contacts its ceiling time_step_max_ratio, at most max_time_step_ratio
 //     (c_t >= 1 runs with a warning: the step exceeds the critical estimate
 //     of eqs. 91-92; far above it every contact blows up at once);
 //   - particle count and memory: count x bytes_per_particle must fit into
