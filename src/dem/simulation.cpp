@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -345,6 +346,17 @@ SimulationState Simulation::state() const {
   s.energy = energy_;
   s.settings = settings_;
   return s;
+}
+
+std::string describe_time_step(const Simulation& sim) {
+  const SimulationSettings& s = sim.settings();
+  char text[128];
+  if (s.time_step_basis == TimeStepBasis::Contacts)
+    std::snprintf(text, sizeof text, "dt from the contacts (safety %g, at most %g T0)", s.time_step_safety,
+                  s.time_step_max_ratio);
+  else
+    std::snprintf(text, sizeof text, "dt = %.4g s (c_t = %.3g)", sim.dt(), sim.time_scale().ct);
+  return text;
 }
 
 }  // namespace vt::dem

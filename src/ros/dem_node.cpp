@@ -115,15 +115,9 @@ void DemNode::install(Specimen s) {
   arbiter_.reset_commands();
   if (reconfigure_) reconfigure_->sync();
   views_->on_load(*sim_, s.snapshot_interval, source_);
-  char step[96];
-  if (sim_->settings().time_step_basis == dem::TimeStepBasis::Contacts)
-    std::snprintf(step, sizeof step, "dt from the contacts (safety %g, at most %g T0)",
-                  sim_->settings().time_step_safety, sim_->settings().time_step_max_ratio);
-  else
-    std::snprintf(step, sizeof step, "dt %.4g s (c_t %.3g)", sim_->dt(), sim_->settings().time_step_ratio);
   ROS_INFO("dem_node: %zu particles from %s; T0 %.4g s, %s, %d steps per control tick, %s",
-           sim_->particles().size(), source_.c_str(), sim_->time_scale().t0, step, publish_every_,
-           lockstep_ ? "lockstep" : "free-running");
+           sim_->particles().size(), source_.c_str(), sim_->time_scale().t0, dem::describe_time_step(*sim_).c_str(),
+           publish_every_, lockstep_ ? "lockstep" : "free-running");
 }
 
 void DemNode::advertise() {

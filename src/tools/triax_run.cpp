@@ -208,14 +208,9 @@ int main(int argc, char** argv) {
     const vt::dem::SimulationState initial = sim.state();
     vt::io::ResultsRecorder recorder(a.out, a.quiet);
     if (resume) recorder.resume(static_cast<std::size_t>(resume->results_rows));
-    char step[160];
-    if (scene.time_step_basis == vt::dem::TimeStepBasis::Contacts)
-      std::snprintf(step, sizeof step, "dt from the contacts (safety %g, at most %g T0)", scene.time_step_safety,
-                    scene.time_step_max_ratio);
-    else
-      std::snprintf(step, sizeof step, "dt = %.4g s (c_t = %g)", sim.dt(), sim.time_scale().ct);
     std::fprintf(stderr, "triax_run: %zu particles, L0 = %.4g m, T0 = %.4g s, %s, damping %s xi = %g\n",
-                 sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0, step,
+                 sim.particles().size(), sim.time_scale().l0, sim.time_scale().t0,
+                 vt::dem::describe_time_step(sim).c_str(),
                  vt::dem::to_string(scene.damping.model()), scene.damping.ratio());
     vt::protocol::RunOptions opt = scene.run_options();
     if (a.quiet) opt.progress_seconds = 0.0;

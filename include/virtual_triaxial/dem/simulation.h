@@ -187,4 +187,8 @@ class Simulation {
   std::string failure_;
 };
 
+/// The time step in words for the runners' banners: "dt from the contacts
+/// (safety s, at most r_max T0)" or "dt = ... s (c_t = ...)".
+std::string describe_time_step(const Simulation& sim);
+
 }  // namespace vt::dem
