@@ -49,7 +49,7 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
 
 template <bool Spheroids, bool Local>
 IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
-                                                  bool measure, IntegrationSums acc) const {
+                                                  bool measure) const {
   const Mat3 hinv = in.hinv;
   const Mat3 h = in.h;
   const double dt = dt_;
@@ -60,6 +60,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
   const Vec3* t_in = in.t_in;
   const Vec3* s_build = in.s_build;
   const LocalDamping local = local_;
+  IntegrationSums acc;
   for (std::size_t i = i_begin; i < i_end; ++i) {
     const Vec3 v_old = vel[i];
     const Vec3 w_old = omg[i];
@@ -150,7 +151,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
 /// the sums and maxima taken one particle at a time in storage order, so
 /// every sum sees the same terms in the same order (equal to round-off: the
 /// compiler may fuse multiply-adds differently in the two loops). The last,
-/// partial group of a chunk goes through advance_chunk.
+/// partial group of a chunk takes the same two steps over its lanes.
 template <bool Measure>
 IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, std::size_t i_begin,
                                                          std::size_t i_end) const {
@@ -166,55 +167,60 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
   const double* t_in = &in.t_in->x;
   const double* s_build = &in.s_build->x;
   IntegrationSums acc;
+  double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
+  // Lane k of the group at i0 (a multiple of kLanes: coefficient block i0 / kLanes).
+  const auto update = [&](std::size_t i0, std::size_t k) __attribute__((always_inline)) {
+    const std::size_t i = i0 + k;
+    const Vec3 v_old{vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
+    const Vec3 w_old{omg[3 * i], omg[3 * i + 1], omg[3 * i + 2]};
+    const CoefficientLanes& c = coef_[i0 / kLanes];
+    const Vec3 f{f_in[3 * i], f_in[3 * i + 1], f_in[3 * i + 2]}, t{t_in[3 * i], t_in[3 * i + 1], t_in[3 * i + 2]};
+    const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
+    const Vec3 w_new = c.decay[k] * w_old + c.kick_rot[k] * t;
+    vel[3 * i] = v_new.x; vel[3 * i + 1] = v_new.y; vel[3 * i + 2] = v_new.z;
+    omg[3 * i] = w_new.x; omg[3 * i + 1] = w_new.y; omg[3 * i + 2] = w_new.z;
+    const Vec3 v_mid = 0.5 * (v_old + v_new);
+    const Vec3 w_mid = 0.5 * (w_old + w_new);
+    const double m = c.mass[k];
+    const double inert = c.inertia[k];
+    diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + inert * norm2(w_mid));
+    if constexpr (Measure) {
+      ekt[k] = 0.5 * m * norm2(v_mid);
+      ekr[k] = 0.5 * inert * norm2(w_mid);
+      mom[k] = norm2(w_new - w_old);  // its root in add(): std::sqrt would branch (errno)
+    }
+    const Vec3 s = PeriodicCell::wrap(Vec3{frac[3 * i], frac[3 * i + 1], frac[3 * i + 2]} + hinv * (dt * v_new));
+    frac[3 * i] = s.x; frac[3 * i + 1] = s.y; frac[3 * i + 2] = s.z;
+    const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{s_build[3 * i], s_build[3 * i + 1], s_build[3 * i + 2]});
+    d2[k] = norm2(h * ds);
+    v2[k] = norm2(v_new);
+    w2[k] = norm2(w_new);
+    fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
+  };
+  // Lane k's terms into the sums, in storage order.
+  const auto add = [&](std::size_t i0, std::size_t k) {
+    acc.damping_dissipation += diss[k];
+    if constexpr (Measure) {
+      acc.kinetic_translational += ekt[k];
+      acc.kinetic_rotational += ekr[k];
+      acc.sum_inertia_moment += coef_[i0 / kLanes].inertia[k] / dt * std::sqrt(mom[k]);
+    }
+    acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
+    acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
+    acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
+    if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+  };
   static_assert(kChunkSize % kLanes == 0, "chunks start at a lane block");
   std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
   for (; i0 + kLanes <= i_end; i0 += kLanes) {
-    double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
     // The arrays are distinct (StepInputs): no lane reads what another writes.
 #pragma GCC ivdep
-    for (std::size_t k = 0; k < kLanes; ++k) {
-      const std::size_t i = i0 + k;
-      const Vec3 v_old{vel[3 * i], vel[3 * i + 1], vel[3 * i + 2]};
-      const Vec3 w_old{omg[3 * i], omg[3 * i + 1], omg[3 * i + 2]};
-      const CoefficientLanes& c = coef_[i0 / kLanes];
-      const Vec3 f{f_in[3 * i], f_in[3 * i + 1], f_in[3 * i + 2]}, t{t_in[3 * i], t_in[3 * i + 1], t_in[3 * i + 2]};
-      const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
-      const Vec3 w_new = c.decay[k] * w_old + c.kick_rot[k] * t;
-      vel[3 * i] = v_new.x; vel[3 * i + 1] = v_new.y; vel[3 * i + 2] = v_new.z;
-      omg[3 * i] = w_new.x; omg[3 * i + 1] = w_new.y; omg[3 * i + 2] = w_new.z;
-      const Vec3 v_mid = 0.5 * (v_old + v_new);
-      const Vec3 w_mid = 0.5 * (w_old + w_new);
-      const double m = c.mass[k];
-      const double inert = c.inertia[k];
-      diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + inert * norm2(w_mid));
-      if constexpr (Measure) {
-        ekt[k] = 0.5 * m * norm2(v_mid);
-        ekr[k] = 0.5 * inert * norm2(w_mid);
-        mom[k] = norm2(w_new - w_old);  // its root below: std::sqrt would branch (errno)
-      }
-      const Vec3 s = PeriodicCell::wrap(Vec3{frac[3 * i], frac[3 * i + 1], frac[3 * i + 2]} + hinv * (dt * v_new));
-      frac[3 * i] = s.x; frac[3 * i + 1] = s.y; frac[3 * i + 2] = s.z;
-      const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{s_build[3 * i], s_build[3 * i + 1], s_build[3 * i + 2]});
-      d2[k] = norm2(h * ds);
-      v2[k] = norm2(v_new);
-      w2[k] = norm2(w_new);
-      fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
-    }
-    for (std::size_t k = 0; k < kLanes; ++k) {
-      acc.damping_dissipation += diss[k];
-      if constexpr (Measure) {
-        acc.kinetic_translational += ekt[k];
-        acc.kinetic_rotational += ekr[k];
-        acc.sum_inertia_moment += coef_[i0 / kLanes].inertia[k] / dt * std::sqrt(mom[k]);
-      }
-      acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
-      acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
-      acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
-      if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
-    }
+    for (std::size_t k = 0; k < kLanes; ++k) update(i0, k);
+    for (std::size_t k = 0; k < kLanes; ++k) add(i0, k);
   }
-  // The tail continues the same sums in the same order.
-  if (i0 < i_end) acc = advance_chunk<false, false>(in, i0, i_end, Measure, acc);
+  const std::size_t tail = i_end - i0;
+  for (std::size_t k = 0; k < tail; ++k) update(i0, k);
+  for (std::size_t k = 0; k < tail; ++k) add(i0, k);
   return acc;
 }
 

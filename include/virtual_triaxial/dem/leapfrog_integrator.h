@@ -114,11 +114,10 @@ class LeapfrogIntegrator {
     const Vec3* s_build;
     Mat3 hinv, h;
   };
-  /// Particles [i_begin, i_end), their sums added to `acc` in storage order;
-  /// Spheroids = false is the plain sphere loop.
+  /// Particles [i_begin, i_end); Spheroids = false is the plain sphere loop.
   template <bool Spheroids, bool Local>
   IntegrationSums advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
-                                bool measure, IntegrationSums acc = {}) const;
+                                bool measure) const;
   /// advance_chunk<false, false> kLanes particles at a time (SIMD): the same
   /// operations and sums in the same order; the compiler may fuse
   /// multiply-adds differently in the two loops, so they agree to round-off.
