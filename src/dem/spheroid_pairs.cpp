@@ -6,10 +6,134 @@
 #include <limits>
 
 #include "pair_kernel.h"
+#include "virtual_triaxial/dem/spheroid_warm_lanes.h"
 
 namespace vt::dem::pairs {
 
 namespace {
+
+/// What pass 2 needs of a pair in reach and awake.
+struct PairGeometry {
+  double delta = 0.0;  ///< signed overlap [m]; > 0 contact
+  double gap = 0.0;    ///< > 0: apart by at least this along some fixed normal [m]
+  Vec3 nrm;            ///< normal i -> j (contacts)
+  Vec3 cpt;            ///< contact point relative to x_i [m] (contacts)
+};
+
+/// Pairs in reach whose geometry is found before their contact law is taken.
+constexpr std::int32_t kBlock = 64;
+
+/// The counters of a warm solve that converged in one Newton step.
+inline void count_warm_solve(SpheroidContactStats& stats) {
+  ++stats.calls;
+  ++stats.solves;
+  ++stats.warm_starts;
+  ++stats.iterations;
+}
+
+/// Contacts of the spheroid pair loop taken kLanes at a time, as the sphere
+/// loop takes its contacts (sphere_pairs.cpp): the inputs of each gathered
+/// into arrays, the contact law computed by one loop without jumps over the
+/// lanes (SIMD), the results then stored and summed one contact at a time in
+/// list order. Unused lanes of the last group repeat its first contact.
+constexpr int kLawLanes = 8;
+struct LawLanes {
+  // inputs
+  double dx[kLawLanes], dy[kLawLanes], dz[kLawLanes];  // branch d [m]
+  double delta[kLawLanes], nx[kLawLanes], ny[kLawLanes], nz[kLawLanes];
+  double cx[kLawLanes], cy[kLawLanes], cz[kLawLanes];  // contact point relative to x_i [m]
+  double ri[kLawLanes], rj[kLawLanes];                 // R_i, R_j of eq. 104 [m]
+  double rvx[kLawLanes], rvy[kLawLanes], rvz[kLawLanes];  // v_j - v_i [m/s]
+  double wix[kLawLanes], wiy[kLawLanes], wiz[kLawLanes], wjx[kLawLanes], wjy[kLawLanes], wjz[kLawLanes];
+  double sx[kLawLanes], sy[kLawLanes], sz[kLawLanes];  // spring [N]: in, then out
+  double mi[kLawLanes], mj[kLawLanes];                 // viscous dashpots only
+  // results
+  double fx[kLawLanes], fy[kLawLanes], fz[kLawLanes];     // force on j [N]
+  double mjx[kLawLanes], mjy[kLawLanes], mjz[kLawLanes];  // moment on j, (c - d) x F [N m]
+  double mix[kLawLanes], miy[kLawLanes], miz[kLawLanes];  // moment on i, F x c [N m]
+  double energy[kLawLanes], friction[kLawLanes], power[kLawLanes], f2[kLawLanes];
+  std::int32_t sliding[kLawLanes];
+  /// Copies the inputs of lane `from` into lane `to`.
+  void repeat(int from, int to) {
+    double* const fields[] = {dx, dy, dz, delta, nx, ny, nz, cx, cy, cz, ri, rj, rvx, rvy, rvz,
+                              wix, wiy, wiz, wjx, wjy, wjz, sx, sy, sz, mi, mj};
+    for (double* f : fields) f[to] = f[from];
+  }
+};
+
+/// Hertz-Mindlin of every lane at its contact point c (relative to x_i):
+///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
+///   T_i = c x F_on_i = F x c,  T_j = (c - d) x F_on_j.
+template <bool Viscous>
+inline void spheroid_contact_lanes(LawLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
+                                   double viscous_a) {
+  for (int k = 0; k < kLawLanes; ++k) {
+    const Vec3 d{L.dx[k], L.dy[k], L.dz[k]};
+    const Vec3 nrm{L.nx[k], L.ny[k], L.nz[k]};
+    const Vec3 cpt{L.cx[k], L.cy[k], L.cz[k]};
+    const double delta = L.delta[k];
+    const double ri = L.ri[k], rj = L.rj[k];
+    const double r_eff = ri * rj / (ri + rj);
+    const Vec3 cj = cpt - d;  // contact point relative to x_j
+    const Vec3 wi{L.wix[k], L.wiy[k], L.wiz[k]}, wj{L.wjx[k], L.wjy[k], L.wjz[k]};
+    const Vec3 vc = Vec3{L.rvx[k], L.rvy[k], L.rvz[k]} + lgrad * d + cross(wj, cj) - cross(wi, cpt);
+    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
+    Vec3 spring{L.sx[k], L.sy[k], L.sz[k]};
+    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, spring);
+    Vec3 f = r.force_on_j;
+    L.power[k] = Viscous ? add_dashpots(L.mi[k], L.mj[k], viscous_a, law, delta, r_eff, nrm, vc, r.sliding, f) : 0.0;
+    const Vec3 mj = cross(cj, f), mi = cross(f, cpt);
+    L.sx[k] = spring.x; L.sy[k] = spring.y; L.sz[k] = spring.z;
+    L.fx[k] = f.x; L.fy[k] = f.y; L.fz[k] = f.z;
+    L.mjx[k] = mj.x; L.mjy[k] = mj.y; L.mjz[k] = mj.z;
+    L.mix[k] = mi.x; L.miy[k] = mi.y; L.miz[k] = mi.z;
+    L.energy[k] = r.elastic_energy;
+    L.friction[k] = r.friction_dissipation;
+    L.f2[k] = norm2(f);
+    L.sliding[k] = r.sliding ? 1 : 0;
+  }
+}
+
+/// Geometry of entry e (owner i, branch d, |d|^2 = dist2) with a spheroid,
+/// one pair at a time: the separation certificate g(n) < 0 at the warm
+/// start (or along d/|d|) proves the pair apart without iterating (the cache
+/// is kept as it is); otherwise the common-normal solver
+/// (spheroid_contact.h), warm-started from the pair's cache, which keeps the
+/// result only for a contact.
+PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t e, const Vec3& d, double dist2,
+                             SpheroidContactStats& stats) {
+  const SpheroidSupport& si = in.body[i];
+  const SpheroidSupport& sj = in.body[in.partner[e]];
+  SpheroidContactCache& cache = in.sph[e].cache;
+  PairGeometry gm;
+  // A solve from the warm start reuses the support values found there.
+  SpheroidStart start;
+  double g;  // g(n) >= delta at the probe n
+  if (cache.valid) {
+    start = SpheroidStart::at(si, sj, warm_start_normal(cache));
+    g = start.gap(d);
+  } else {
+    g = spheroid_gap_bound(si, sj, d, (1.0 / std::sqrt(dist2)) * d);
+  }
+  if (g < 0.0) {
+    gm.delta = -1.0;
+    gm.gap = -g;
+    return gm;
+  }
+  // The cache follows contacts only: a solve that finds the pair apart
+  // leaves it as it was, so an apart pair's evaluation has no effect.
+  // (After an apart spell the warm start may be stale; the plain Newton
+  // then takes more steps or the counted fallback.)
+  SpheroidContactCache trial = cache;
+  const SpheroidContact sc =
+      detect_spheroid_contact(si, sj, d, &trial, &stats, {}, cache.valid ? &start : nullptr);
+  gm.delta = sc.overlap;
+  gm.nrm = sc.normal;
+  gm.cpt = sc.contact_point;
+  if (gm.delta > 0.0) cache = trial;
+  gm.gap = sc.converged ? -gm.delta : 0.0;  // delta = g(n*) when converged
+  return gm;
+}
 
 /// Pairs owned by particles [i_begin, i_end) when the particles include
 /// spheroids (in.body: SpheroidSupport of every particle, this evaluation).
@@ -18,14 +142,16 @@ namespace {
 /// clock, ContactForces::set_motion_clock), and
 /// drops the solver cache of every other pair (so the cache of a pair
 /// depends only on its own history while in reach: a restart, which
-/// rebuilds the list, continues bit for bit). Pass 2, in list order: a
-/// sphere-sphere pair takes the closed form (delta = R_i + R_j - |d|,
-/// n = d/|d|, contact point x_i + (R_i - delta/2) n); any pair with a
-/// spheroid is first tested with the separation certificate g(n) < 0 at
-/// its warm start (or along d/|d|), which proves it apart without iterating, and
-/// otherwise takes the common-normal solver (spheroid_contact.h, warm-started
-/// from the pair's cache; a sphere enters it as a spheroid with a = b = R).
-/// Then Hertz-Mindlin with R_i the average radius (a + 2b)/3 (eq. 104; R for
+/// rebuilds the list, continues bit for bit). Pass 2, kBlock pairs at a
+/// time, first their geometry: a sphere-sphere pair takes the closed form
+/// (delta = R_i + R_j - |d|, n = d/|d|, contact point x_i + (R_i - delta/2) n);
+/// a pair with a spheroid and a warm cache goes to the warm lanes
+/// (spheroid_warm_lanes.h: the separation certificate at the warm start and
+/// one Newton step, 8 pairs at a time as SIMD), and one those cannot settle,
+/// or without a warm cache, to scalar_geometry (the certificate, then the
+/// common-normal solver of spheroid_contact.h; a sphere enters it as a
+/// spheroid with a = b = R). Each pair's geometry depends only on its own
+/// inputs, whichever group takes it. Then, in list order, Hertz-Mindlin with R_i the average radius (a + 2b)/3 (eq. 104; R for
 /// a sphere) at the contact point c (relative to x_i):
 ///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
 ///   T_i = c x F_on_i,  T_j = (c - d) x F_on_j,
@@ -84,116 +210,166 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     in.sph[e].torque_i = Vec3{};
   }
 
-  // Pass 2: the pairs in reach and awake, in list order.
+  // Pass 2: the pairs in reach and awake, in list order, kBlock at a time:
+  // first the geometry of the block (the warm spheroid pairs 8 at a time as
+  // SIMD), then the contact law of each pair in list order.
   ContactSums acc;
   acc.spheroid.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
-  for (std::int32_t c = 0; c < nc; ++c) {
-    if (c + kPrefetchContacts < nc) {
-      const std::int32_t ep = c_entry[c + kPrefetchContacts];
-      __builtin_prefetch(in.body + in.partner[ep]);
-      __builtin_prefetch(in.state + ep, 1);
-      __builtin_prefetch(in.sph + ep, 1);
-      if (in.force_out) {
-        __builtin_prefetch(in.force_out + in.partner[ep], 1);
-        __builtin_prefetch(in.torque_out + in.partner[ep], 1);
+  PairGeometry geo[kBlock];
+  LawLanes L;
+  std::int32_t law_e[kLawLanes];
+  SpheroidWarmLanes lanes;
+  std::int32_t lane_c[SpheroidWarmLanes::kLanes];
+  const double tolerance = SpheroidContactOptions{}.step_tolerance;
+  for (std::int32_t c0 = 0; c0 < nc; c0 += kBlock) {
+    const std::int32_t c1 = std::min(nc, c0 + kBlock);
+    int queued = 0;
+    const auto run_lanes = [&]() {
+      for (int k = queued; k < SpheroidWarmLanes::kLanes; ++k) lanes.repeat(0, k);
+      solve_spheroid_warm_lanes(lanes, tolerance);
+      for (int k = 0; k < queued; ++k) {
+        const std::int32_t c = lane_c[k];
+        const std::int32_t e = c_entry[c];
+        PairGeometry& gm = geo[c - c0];
+        switch (lanes.outcome(k)) {
+          case WarmOutcome::Apart:
+            gm.delta = -1.0;
+            gm.gap = lanes.gap[k];
+            break;
+          case WarmOutcome::Solved:
+            count_warm_solve(acc.spheroid);
+            gm.delta = lanes.delta[k];
+            gm.gap = -gm.delta;
+            gm.nrm = lanes.normal(k);
+            gm.cpt = lanes.contact_point(k);
+            if (gm.delta > 0.0) advance_cache(in.sph[e].cache, gm.nrm);
+            break;
+          case WarmOutcome::Scalar:
+            gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], acc.spheroid);
+            break;
+        }
       }
-    }
-    const std::int32_t e = c_entry[c];
-    const std::int32_t i = in.owner[e];
-    const std::int32_t j = in.partner[e];
-    const Vec3 d = c_branch[c];
-    const bool sph_i = in.shape[i] == Shape::Spheroid, sph_j = in.shape[j] == Shape::Spheroid;
-    double delta;
-    Vec3 nrm, cpt;  // normal i -> j; contact point relative to x_i [m]
-    double gap = 0.0;  // > 0: apart by at least this along some fixed normal [m]
-    if (!sph_i && !sph_j) {
-      const double dist = std::sqrt(c_dist2[c]);
-      delta = in.rad[i] + in.rad[j] - dist;
-      nrm = (1.0 / dist) * d;
-      cpt = (in.rad[i] - 0.5 * delta) * nrm;
-      gap = -delta;
-    } else {
-      const SpheroidSupport& si = in.body[i];
-      const SpheroidSupport& sj = in.body[j];
-      SpheroidContactCache& cache = in.sph[e].cache;
-      // Separation certificate at the warm start (or along the centre line):
-      // g(n) < 0 proves delta < 0, so no solve; the cache is kept as it is.
-      // A solve from the warm start reuses the support values found there.
-      SpheroidStart start;
-      double g;  // g(n) >= delta at the probe n
-      if (cache.valid) {
-        start = SpheroidStart::at(si, sj, warm_start_normal(cache));
-        g = start.gap(d);
+      queued = 0;
+    };
+    for (std::int32_t c = c0; c < c1; ++c) {
+      if (c + kPrefetchContacts < nc) {
+        const std::int32_t ep = c_entry[c + kPrefetchContacts];
+        __builtin_prefetch(in.body + in.partner[ep]);
+        __builtin_prefetch(in.sph + ep, 1);
+      }
+      const std::int32_t e = c_entry[c];
+      const std::int32_t i = in.owner[e];
+      const std::int32_t j = in.partner[e];
+      const Vec3 d = c_branch[c];
+      if (in.shape[i] != Shape::Spheroid && in.shape[j] != Shape::Spheroid) {
+        PairGeometry& gm = geo[c - c0];
+        const double dist = std::sqrt(c_dist2[c]);
+        gm.delta = in.rad[i] + in.rad[j] - dist;
+        gm.nrm = (1.0 / dist) * d;
+        gm.cpt = (in.rad[i] - 0.5 * gm.delta) * gm.nrm;
+        gm.gap = -gm.delta;
+      } else if (in.sph[e].cache.valid) {
+        lanes.set(queued, in.body[i], in.body[j], d, in.sph[e].cache);
+        lane_c[queued++] = c;
+        if (queued == SpheroidWarmLanes::kLanes) run_lanes();
       } else {
-        g = spheroid_gap_bound(si, sj, d, (1.0 / std::sqrt(c_dist2[c])) * d);
-      }
-      if (g < 0.0) {
-        delta = -1.0;
-        gap = -g;
-      } else {
-        // The cache follows contacts only: a solve that finds the pair apart
-        // leaves it as it was, so an apart pair's evaluation has no effect.
-        // (After an apart spell the warm start may be stale; the plain
-        // Newton then takes more steps or the counted fallback.)
-        SpheroidContactCache trial = cache;
-        const SpheroidContact sc =
-            detect_spheroid_contact(si, sj, d, &trial, &acc.spheroid, {}, cache.valid ? &start : nullptr);
-        delta = sc.overlap;
-        nrm = sc.normal;
-        cpt = sc.contact_point;
-        if (delta > 0.0) cache = trial;
-        gap = sc.converged ? -delta : 0.0;  // delta = g(n*) when converged
+        geo[c - c0] = scalar_geometry(in, i, e, d, c_dist2[c], acc.spheroid);
       }
     }
-    SpheroidPairState& sp = in.sph[e];
-    PairState& st = in.state[e];
-    if (!(delta > 0.0)) {  // in reach, not in contact
-      st = PairState{};
-      in.spring[e] = Vec3{};
-      sp.torque_i = Vec3{};
-      // Sleep on half the gap, less a floor for the rounding of g (~eps
-      // (a_i + a_j)) and of the clock (~eps C).
-      const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.axes[i].x + in.axes[j].x + in.clock);
-      if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
-      continue;
+    if (queued > 0) run_lanes();
+
+    // The law: pairs not in contact cleared (and put to sleep) at once,
+    // contacts kLawLanes at a time, stored and summed in list order.
+    int nlaw = 0;
+    const auto run_law = [&]() {
+      for (int k = nlaw; k < kLawLanes; ++k) L.repeat(0, k);
+      spheroid_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
+      for (int k = 0; k < nlaw; ++k) {
+        const std::int32_t e = law_e[k], i = in.owner[e], j = in.partner[e];
+        const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
+        const Vec3 mj{L.mjx[k], L.mjy[k], L.mjz[k]};
+        const Vec3 mi{L.mix[k], L.miy[k], L.miz[k]};
+        PairState& st = in.state[e];
+        store(st.force, f);
+        store(st.moment_axis, mj);  // here: the moment on j (see SpheroidPairState)
+        st.half_overlap = 0.5 * L.delta[k];
+        store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
+        store(in.sph[e].torque_i, mi);
+        in.active[e] = 1;
+        if (in.force_out) {  // the gather's arithmetic, in the gather's order
+          in.force_out[i] -= f;
+          in.torque_out[i] += mi;
+          in.force_out[j] += f;
+          in.torque_out[j] += mj;
+        }
+        const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
+        vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
+        vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
+        vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
+        if (Measure) acc.elastic_energy += L.energy[k];
+        acc.friction_dissipation += L.friction[k];
+        if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
+        acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.delta[k] / std::min(in.axes[i].y, in.axes[j].y));
+        acc.sliding += L.sliding[k];
+        if (Measure) {
+          acc.sum_force2 += L.f2[k];
+          acc.sum_force += std::sqrt(L.f2[k]);
+        }
+      }
+      contacts += nlaw;
+      nlaw = 0;
+    };
+    for (std::int32_t c = c0; c < c1; ++c) {
+      if (c + kPrefetchContacts < c1) {
+        const std::int32_t ep = c_entry[c + kPrefetchContacts];
+        __builtin_prefetch(in.state + ep, 1);
+        __builtin_prefetch(in.spring + ep, 1);
+        if (in.force_out) {
+          __builtin_prefetch(in.force_out + in.partner[ep], 1);
+          __builtin_prefetch(in.torque_out + in.partner[ep], 1);
+        }
+      }
+      const std::int32_t e = c_entry[c];
+      const std::int32_t i = in.owner[e];
+      const std::int32_t j = in.partner[e];
+      const PairGeometry& gm = geo[c - c0];
+      if (!(gm.delta > 0.0)) {  // in reach, not in contact
+        in.state[e] = PairState{};
+        in.spring[e] = Vec3{};
+        SpheroidPairState& sp = in.sph[e];
+        sp.torque_i = Vec3{};
+        // Sleep on half the gap, less a floor for the rounding of g (~eps
+        // (a_i + a_j)) and of the clock (~eps C).
+        const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.axes[i].x + in.axes[j].x + in.clock);
+        if (in.sleep && gm.gap > floor) sp.wake = in.clock + 0.5 * (gm.gap - floor);
+        continue;
+      }
+      const int k = nlaw;
+      law_e[k] = e;
+      const Vec3 d = c_branch[c];
+      L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
+      L.delta[k] = gm.delta;
+      L.nx[k] = gm.nrm.x; L.ny[k] = gm.nrm.y; L.nz[k] = gm.nrm.z;
+      L.cx[k] = gm.cpt.x; L.cy[k] = gm.cpt.y; L.cz[k] = gm.cpt.z;
+      // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
+      L.ri[k] = in.hertz_radius[i];
+      L.rj[k] = in.hertz_radius[j];
+      const Vec3 rv = in.vel[j] - in.vel[i];
+      L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
+      const Vec3 wi = in.omg[i], wj = in.omg[j];
+      L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
+      L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
+      const Vec3 sp = in.spring[e];
+      L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
+      if constexpr (Viscous) {
+        L.mi[k] = in.mass[i];
+        L.mj[k] = in.mass[j];
+      }
+      if (++nlaw == kLawLanes) run_law();
     }
-    // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
-    const double ri = in.hertz_radius[i], rj = in.hertz_radius[j];
-    const double r_eff = ri * rj / (ri + rj);
-    const Vec3 cj = cpt - d;  // contact point relative to x_j
-    const Vec3 vc = in.vel[j] - in.vel[i] + lgrad * d + cross(in.omg[j], cj) - cross(in.omg[i], cpt);
-    const Vec3 dt_t = dt * (vc - dot(vc, nrm) * nrm);
-    const ContactResult r = law.evaluate(nrm, delta, r_eff, dt_t, in.spring[e]);
-    Vec3 f = r.force_on_j;
-    if constexpr (Viscous)
-      acc.viscous_dissipation +=
-          dt * add_dashpots(in.mass[i], in.mass[j], in.viscous_a, law, delta, r_eff, nrm, vc, r.sliding, f);
-    st.force = f;
-    st.moment_axis = cross(cj, f);  // here: the moment on j (see SpheroidPairState)
-    st.half_overlap = 0.5 * delta;
-    in.active[e] = 1;
-    sp.torque_i = cross(f, cpt);  // c x (-F_on_j)
-    if (in.force_out) {  // the gather's arithmetic, in the gather's order
-      in.force_out[i] -= f;
-      in.torque_out[i] += sp.torque_i;
-      in.force_out[j] += f;
-      in.torque_out[j] += st.moment_axis;
-    }
-    ++contacts;
-    vxx += d.x * f.x; vxy += d.x * f.y; vxz += d.x * f.z;
-    vyx += d.y * f.x; vyy += d.y * f.y; vyz += d.y * f.z;
-    vzx += d.z * f.x; vzy += d.z * f.y; vzz += d.z * f.z;
-    if (Measure) acc.elastic_energy += r.elastic_energy;
-    acc.friction_dissipation += r.friction_dissipation;
-    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, delta / std::min(in.axes[i].y, in.axes[j].y));
-    acc.sliding += r.sliding ? 1 : 0;
-    if (Measure) {
-      const double f2 = norm2(f);
-      acc.sum_force2 += f2;
-      acc.sum_force += std::sqrt(f2);
-    }
+    if (nlaw > 0) run_law();
   }
   acc.contacts = contacts;
   acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
