@@ -92,7 +92,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
 
-  // Gather of sphere i, over its gather slots in list order (see below).
+  // Gather, per particle, over its gather slots in list order: entries of
+  // owners stored before it (force added), its own entries (force
+  // subtracted), entries of owners stored after it (force added). No
+  // contact test: entries not in contact hold zero force and moment (see
+  // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
+  // bit (a sum that starts at +0 and only adds or subtracts is never -0),
+  // so the loop has no unpredictable branch, and the sums equal those of
+  // the one-thread pair loop, which adds the contacts only. Spheres:
   const auto gather_sphere = [&](std::int32_t i) {
     const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
     for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
@@ -109,6 +116,47 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
+  // Support data of particles [i0, i1) (symmetry axis e = q (1,0,0)): one
+  // rotation per particle instead of one per particle and pair.
+  const auto refresh_bodies = [&](std::int32_t i0, std::int32_t i1) {
+    const Vec3* axes = p.semi_axes.data();
+    const Quaternion* orient = p.orientation.data();
+    const Shape* shape = p.shape.data();
+    SpheroidSupport* body = bodies_.data();
+    double* hertz_r = hertz_radius_.data();
+    for (std::int32_t i = i0; i < i1; ++i) {
+      body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
+      hertz_r[i] = shape[i] == Shape::Spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i];
+    }
+  };
+  // Particles with spheroids: the moment on the partner is in the pair state (one line
+  // for the entries of other particles), the one on the owner in the
+  // spheroid pair state (own entries: consecutive in the list).
+  const SpheroidPairState* sps = spheroids ? pd.spheroid.data() : nullptr;
+  const auto gather_spheroid = [&](std::int32_t i) {
+    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+    Vec3 f{}, t{};
+    std::int32_t g = goff[i];
+    const std::int32_t g_end = goff[i + 1];
+    for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
+      const std::int32_t e = gcode[g] >> 2;
+      f += ps[e].force;
+      t += ps[e].moment_axis;  // moment on j
+    }
+    for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
+      const std::int32_t e = gcode[g] >> 2;
+      f -= ps[e].force;
+      t += sps[e].torque_i;
+    }
+    for (; g < g_end; ++g) {  // owners stored after i
+      const std::int32_t e = gcode[g] >> 2;
+      f += ps[e].force;
+      t += ps[e].moment_axis;
+    }
+    fout[i] = f;
+    tout[i] = t;
+  };
   SplitSums* split = &split_;
   ThreadRuns* runs = &runs_;
   split_used_ = false;  // set below when a team of several takes the split sums
@@ -119,21 +167,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
-    if (spheroids) {
-      // Support data of every particle (symmetry axis e = q (1,0,0)): one
-      // rotation per particle instead of one per particle and pair.
-      const Vec3* axes = p.semi_axes.data();
-      const Quaternion* orient = p.orientation.data();
-      const Shape* shape = p.shape.data();
-      SpheroidSupport* body = bodies_.data();
-      double* hertz_r = hertz_radius_.data();
-#pragma omp for schedule(static, kChunkSize)
-      for (std::int32_t i = 0; i < static_cast<std::int32_t>(n); ++i) {
-        body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
-        hertz_r[i] = shape[i] == Shape::Spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i];
-      }
-      // (implicit barrier)
-    }
+    const int team = omp_get_num_threads();
     const auto evaluate_chunk = [&](std::int32_t c) {
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
@@ -141,15 +175,37 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       sums[c] = kernel(in, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
                        mine.dist2.data());
     };
-    if (scatter) {
+    if (spheroids && team > 1) {
+      // Each thread takes its run of consecutive chunks (thread_runs.h; the
+      // integrator's run too) for the support data, the pairs and the
+      // gather, so it mostly reads the particles it wrote; barriers between.
+#pragma omp single
+      runs->prepare(nchunks, n, team);
+      // (implicit barrier: the runs are ready)
+      const int t = omp_get_thread_num();
+      const auto [c0, c1] = runs->run(t);
+      const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
+      double start = omp_get_wtime();
+      refresh_bodies(i0, i1);
+      double busy = omp_get_wtime() - start;
+#pragma omp barrier
+      start = omp_get_wtime();
+      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(c);
+      busy += omp_get_wtime() - start;
+#pragma omp barrier
+      start = omp_get_wtime();
+      for (std::int32_t i = i0; i < i1; ++i) gather_spheroid(i);
+      runs->record(t, busy + (omp_get_wtime() - start));
+    } else if (spheroids) {  // one thread
+      refresh_bodies(0, ni);
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+      if (!scatter)
+        for (std::int32_t i = 0; i < ni; ++i) gather_spheroid(i);
+    } else if (scatter) {
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums.
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
-    } else if (spheroids) {
-      // chunk costs vary with the solves and the sleeping pairs: dealt out
-#pragma omp for schedule(dynamic, 1)
-      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
-    } else if (omp_get_num_threads() == 1) {
+    } else if (team == 1) {
       // One thread asked for the gather (set_pair_loop_sum_threshold): pair loop, then gather
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
       for (std::int32_t i = 0; i < ni; ++i) gather_sphere(i);
@@ -197,49 +253,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         }
       }
       runs->record(t, (evaluated - start) + (omp_get_wtime() - summing));
-    }
-    // (spheroids: implicit barrier, every pair state is final)
-
-    // Gather, per particle, over its gather slots in list order: entries of
-    // owners stored before it (force added), its own entries (force
-    // subtracted), entries of owners stored after it (force added). No
-    // contact test: entries not in contact hold zero force and moment (see
-    // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
-    // bit (a sum that starts at +0 and only adds or subtracts is never -0),
-    // so the loop has no unpredictable branch, and the sums equal those of
-    // the one-thread pair loop, which adds the contacts only.
-    if (scatter) {
-      // the pair loop has made the sums
-    } else if (spheroids) {
-      // The moment on the partner is in the pair state (one line for the
-      // entries of other particles), the one on the owner in the spheroid
-      // pair state (own entries: consecutive in the list).
-      const SpheroidPairState* sps = pd.spheroid.data();
-#pragma omp for schedule(static, kChunkSize)
-      for (std::int32_t i = 0; i < ni; ++i) {
-        const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-        for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
-        Vec3 f{}, t{};
-        std::int32_t g = goff[i];
-        const std::int32_t g_end = goff[i + 1];
-        for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
-          const std::int32_t e = gcode[g] >> 2;
-          f += ps[e].force;
-          t += ps[e].moment_axis;  // moment on j
-        }
-        for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
-          const std::int32_t e = gcode[g] >> 2;
-          f -= ps[e].force;
-          t += sps[e].torque_i;
-        }
-        for (; g < g_end; ++g) {  // owners stored after i
-          const std::int32_t e = gcode[g] >> 2;
-          f += ps[e].force;
-          t += ps[e].moment_axis;
-        }
-        fout[i] = f;
-        tout[i] = t;
-      }
     }
   }
 

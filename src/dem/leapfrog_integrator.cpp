@@ -31,9 +31,16 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   const std::size_t blocks = (n + kLanes - 1) / kLanes;
   reserve_huge(coef_, blocks);
   coef_.assign(blocks, CoefficientLanes{});
-  rot_coef_.resize(spheroids_ ? n : 0);
-  for (std::size_t i = 0; spheroids_ && i < n; ++i)
-    rot_coef_[i] = SymmetricStepConstants::of(p.inertia[i], alpha[i], dt);
+  rot_coef_.assign(spheroids_ ? blocks : 0, RotationLanes{});
+  for (std::size_t i = 0; spheroids_ && i < n; ++i) {
+    const SymmetricStepConstants r = SymmetricStepConstants::of(p.inertia[i], alpha[i], dt);
+    RotationLanes& l = rot_coef_[i / kLanes];
+    const std::size_t k = i % kLanes;
+    l.kick[k] = r.kick;
+    l.inv_i1[k] = r.inv_i1;
+    l.inv_i2[k] = r.inv_i2;
+    l.dt_inv_i2[k] = r.dt_inv_i2;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const double half = 0.5 * alpha[i] * dt;
     CoefficientLanes& c = coef_[i / kLanes];
@@ -82,7 +89,7 @@ IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::siz
         if (ib.y == ib.z) {  // symmetric body: every spheroid
           Quaternion q = in.orient[i];
           w_new = w_old;
-          const SymmetricRotationStep r = advance_symmetric_rotation(q, w_new, t, ib, rot_coef_[i]);
+          const SymmetricRotationStep r = advance_symmetric_rotation(q, w_new, t, ib, rotation_constants(i));
           in.orient[i] = q;
           l_old = r.l_old;
           l_new = r.l_new;
@@ -224,6 +231,141 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
   return acc;
 }
 
+/// Spheroids without local damping, kLanes particles at a time: the
+/// rigid-body step of advance_symmetric_rotation (rigid_rotation.h) with the
+/// translation, wrap and displacement of advance_chunk<true, false>,
+/// computed by one loop without jumps into per-lane results (SIMD), the
+/// step angles' cos and sin by their polynomials. A lane outside what that
+/// covers (a sphere of a mixed sample, L = 0, a half step angle above 1/16
+/// rad) is redone by advance_chunk<true, false> for its particle; then every
+/// lane is stored and its terms summed one particle at a time in storage
+/// order. Which particles take the lanes depends only on their own state,
+/// so results do not depend on the thread count; they agree with
+/// advance_chunk's to round-off.
+template <bool Measure>
+IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin,
+                                                           std::size_t i_end) const {
+  const Mat3 hinv = in.hinv;
+  const Mat3 h = in.h;
+  const double dt = dt_;
+  const double* vel = &in.vel->x;
+  const double* omg = &in.omg->x;
+  const double* frac = &in.frac->x;
+  const double* orient = &in.orient->w;
+  const double* inertia = &in.inertia->x;
+  const double* f_in = &in.f_in->x;
+  const double* t_in = &in.t_in->x;
+  const double* s_build = &in.s_build->x;
+  IntegrationSums acc;
+  // per lane: the new state, the terms of the sums and whether the lane holds
+  double nv[3][kLanes], nw[3][kLanes], nq[4][kLanes], ns[3][kLanes];
+  double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
+  double spheroid[kLanes], ok[kLanes];
+  // per lane: the old state, packed field by field (the vectoriser does not
+  // take the strided particle arrays in this loop)
+  double pv[3][kLanes], pw[3][kLanes], pf[3][kLanes], pt[3][kLanes], pq[4][kLanes], ps[3][kLanes], pb[3][kLanes];
+  double pi1[kLanes], pi2[kLanes];
+  const auto pack = [&](std::size_t i0, std::size_t k) {
+    const std::size_t i = i0 + k;
+    for (int a = 0; a < 3; ++a) {
+      pv[a][k] = vel[3 * i + a];
+      pw[a][k] = omg[3 * i + a];
+      pf[a][k] = f_in[3 * i + a];
+      pt[a][k] = t_in[3 * i + a];
+      ps[a][k] = frac[3 * i + a];
+      pb[a][k] = s_build[3 * i + a];
+    }
+    for (int a = 0; a < 4; ++a) pq[a][k] = orient[4 * i + a];
+    pi1[k] = inertia[3 * i];
+    pi2[k] = inertia[3 * i + 1];
+    spheroid[k] = in.shape[i] == Shape::Spheroid ? 1.0 : 0.0;
+  };
+  const auto update = [&](std::size_t i0, std::size_t k) __attribute__((always_inline)) {
+    const CoefficientLanes& c = coef_[i0 / kLanes];
+    const RotationLanes& rk = rot_coef_[i0 / kLanes];
+    const Vec3 v_old{pv[0][k], pv[1][k], pv[2][k]};
+    const Vec3 w_old{pw[0][k], pw[1][k], pw[2][k]};
+    const Vec3 f{pf[0][k], pf[1][k], pf[2][k]}, t{pt[0][k], pt[1][k], pt[2][k]};
+    const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
+    // advance_symmetric_rotation, L = 0 and large angles left to the scalar step
+    const double i1 = pi1[k], i2 = pi2[k];
+    const Quaternion q{pq[0][k], pq[1][k], pq[2][k], pq[3][k]};
+    const double inv_diff = rk.inv_i1[k] - rk.inv_i2[k];
+    const Vec3 e_old = body_x_axis(q);
+    const Vec3 l_old = i2 * w_old + ((i1 - i2) * dot(e_old, w_old)) * e_old;
+    const Vec3 l = c.decay[k] * l_old + rk.kick[k] * t;
+    const double l2 = norm2(l);
+    const double half_dt_inv_i2 = 0.5 * rk.dt_inv_i2[k];
+    const double xp2 = l2 * (half_dt_inv_i2 * half_dt_inv_i2);  // (precession / 2)^2
+    const double cp = cos_series(xp2), sinc = 1.0 + sinc_series_minus_1(xp2);
+    const double xs = 0.5 * dot(l, e_old) * dt * inv_diff;   // spin / 2
+    const double xs2 = xs * xs;
+    const double cs = cos_series(xs2), ss = xs + xs * sinc_series_minus_1(xs2);
+    const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
+    const Vec3 u = (sinc * half_dt_inv_i2) * l;
+    const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
+    const double fq = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+    const Quaternion q_new{fq * r.w, fq * r.x, fq * r.y, fq * r.z};
+    const Vec3 e_new = body_x_axis(q_new);
+    const Vec3 w_new = rk.inv_i2[k] * l + (inv_diff * dot(e_new, l)) * e_new;
+    const Vec3 l_mid = 0.5 * (l_old + l);
+    const double el = dot(e_old, l_mid);
+    const double two_e_rot = rk.inv_i2[k] * norm2(l_mid) + inv_diff * el * el;
+    ok[k] = spheroid[k] * (l2 > 0.0 ? 1.0 : 0.0) * (xp2 <= kSmallAngle2 ? 1.0 : 0.0) * (xs2 <= kSmallAngle2 ? 1.0 : 0.0);
+    nv[0][k] = v_new.x; nv[1][k] = v_new.y; nv[2][k] = v_new.z;
+    nw[0][k] = w_new.x; nw[1][k] = w_new.y; nw[2][k] = w_new.z;
+    nq[0][k] = q_new.w; nq[1][k] = q_new.x; nq[2][k] = q_new.y; nq[3][k] = q_new.z;
+    const Vec3 v_mid = 0.5 * (v_old + v_new);
+    const double m = c.mass[k];
+    diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + two_e_rot);
+    if constexpr (Measure) {
+      ekt[k] = 0.5 * m * norm2(v_mid);
+      ekr[k] = 0.5 * two_e_rot;
+      mom[k] = norm2(l - l_old);  // its root in finish()
+    }
+    const Vec3 s = PeriodicCell::wrap(Vec3{ps[0][k], ps[1][k], ps[2][k]} + hinv * (dt * v_new));
+    ns[0][k] = s.x; ns[1][k] = s.y; ns[2][k] = s.z;
+    const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{pb[0][k], pb[1][k], pb[2][k]});
+    d2[k] = norm2(h * ds);
+    v2[k] = norm2(v_new);
+    w2[k] = norm2(w_new);
+    fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
+  };
+  // Lane k stored and summed (or its particle stepped by advance_chunk).
+  const auto finish = [&](std::size_t i0, std::size_t k) {
+    const std::size_t i = i0 + k;
+    if (ok[k] == 0.0) {  // one particle's sums: added exactly as its terms
+      acc.add(advance_chunk<true, false>(in, i, i + 1, Measure));
+      return;
+    }
+    in.vel[i] = {nv[0][k], nv[1][k], nv[2][k]};
+    in.omg[i] = {nw[0][k], nw[1][k], nw[2][k]};
+    in.orient[i] = {nq[0][k], nq[1][k], nq[2][k], nq[3][k]};
+    in.frac[i] = {ns[0][k], ns[1][k], ns[2][k]};
+    acc.damping_dissipation += diss[k];
+    if constexpr (Measure) {
+      acc.kinetic_translational += ekt[k];
+      acc.kinetic_rotational += ekr[k];
+      acc.sum_inertia_moment += std::sqrt(mom[k]) / dt;
+    }
+    acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
+    acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
+    acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
+    if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+  };
+  std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
+  for (; i0 + kLanes <= i_end; i0 += kLanes) {
+    for (std::size_t k = 0; k < kLanes; ++k) pack(i0, k);
+    for (std::size_t k = 0; k < kLanes; ++k) update(i0, k);
+    for (std::size_t k = 0; k < kLanes; ++k) finish(i0, k);
+  }
+  const std::size_t tail = i_end - i0;
+  for (std::size_t k = 0; k < tail; ++k) pack(i0, k);
+  for (std::size_t k = 0; k < tail; ++k) update(i0, k);
+  for (std::size_t k = 0; k < tail; ++k) finish(i0, k);
+  return acc;
+}
+
 IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
                                             const std::vector<Vec3>& force,
                                             const std::vector<Vec3>& torque,
@@ -261,7 +403,8 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
         sums[c] = spheroids ? advance_chunk<true, true>(in, i_begin, i_end, measure)
                             : advance_chunk<false, true>(in, i_begin, i_end, measure);
       else
-        sums[c] = spheroids ? advance_chunk<true, false>(in, i_begin, i_end, measure)
+        sums[c] = spheroids ? (measure ? advance_spheroid_lanes<true>(in, i_begin, i_end)
+                                       : advance_spheroid_lanes<false>(in, i_begin, i_end))
               : measure   ? advance_sphere_lanes<true>(in, i_begin, i_end)
                           : advance_sphere_lanes<false>(in, i_begin, i_end);
     }

@@ -47,16 +47,18 @@ struct LawLanes {
   double wix[kLawLanes], wiy[kLawLanes], wiz[kLawLanes], wjx[kLawLanes], wjy[kLawLanes], wjz[kLawLanes];
   double sx[kLawLanes], sy[kLawLanes], sz[kLawLanes];  // spring [N]: in, then out
   double mi[kLawLanes], mj[kLawLanes];                 // viscous dashpots only
+  double minor[kLawLanes];                             // min(b_i, b_j) [m]
   // results
   double fx[kLawLanes], fy[kLawLanes], fz[kLawLanes];     // force on j [N]
   double mjx[kLawLanes], mjy[kLawLanes], mjz[kLawLanes];  // moment on j, (c - d) x F [N m]
   double mix[kLawLanes], miy[kLawLanes], miz[kLawLanes];  // moment on i, F x c [N m]
   double energy[kLawLanes], friction[kLawLanes], power[kLawLanes], f2[kLawLanes];
+  double ratio[kLawLanes];  // delta / min(b_i, b_j)
   std::int32_t sliding[kLawLanes];
   /// Copies the inputs of lane `from` into lane `to`.
   void repeat(int from, int to) {
     double* const fields[] = {dx, dy, dz, delta, nx, ny, nz, cx, cy, cz, ri, rj, rvx, rvy, rvz,
-                              wix, wiy, wiz, wjx, wjy, wjz, sx, sy, sz, mi, mj};
+                              wix, wiy, wiz, wjx, wjy, wjz, sx, sy, sz, mi, mj, minor};
     for (double* f : fields) f[to] = f[from];
   }
 };
@@ -90,6 +92,7 @@ inline void spheroid_contact_lanes(LawLanes& L, const Mat3& lgrad, const HertzMi
     L.energy[k] = r.elastic_energy;
     L.friction[k] = r.friction_dissipation;
     L.f2[k] = norm2(f);
+    L.ratio[k] = delta / L.minor[k];
     L.sliding[k] = r.sliding ? 1 : 0;
   }
 }
@@ -175,6 +178,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       __builtin_prefetch(in.frac + jp);
       __builtin_prefetch(in.axes + jp);
       __builtin_prefetch(in.body + jp);
+      __builtin_prefetch(&in.sph[e + kPrefetchEntries].wake, 1);
     }
     const std::int32_t i = in.owner[e];
     const std::int32_t j = in.partner[e];
@@ -193,21 +197,25 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     c_dist2[nc] = dist2;
     nc += in_reach & (asleep ^ 1);
     slept += in_reach & asleep;
-    // Out of reach: cache.reset() and awake (the sleep bound needs |d| <
-    // a_i + a_j); wake >= 0 is finite, so the product is wake or +0.
-    in.sph[e].wake = wake * static_cast<double>(in_reach);
-    SpheroidContactCache& cache = in.sph[e].cache;
-    cache.valid = static_cast<bool>(static_cast<std::int32_t>(cache.valid) & in_reach);
-    cache.has_previous = static_cast<bool>(static_cast<std::int32_t>(cache.has_previous) & in_reach);
+    // Out of reach: listed to be cleared below when it holds anything (a
+    // contact, a cache or a wake time; the cache follows contacts only, so
+    // has_previous implies valid). Only those entries are written.
+    const std::int32_t holds = static_cast<std::int32_t>(in.active[e]) |
+                               static_cast<std::int32_t>(in.sph[e].cache.valid) | (wake != 0.0 ? 1 : 0);
     s_entry[ns] = e;
-    ns += static_cast<std::int32_t>(in.active[e]) & (in_reach ^ 1);
+    ns += holds & (in_reach ^ 1);
     in.active[e] = 0;  // contacts set it again in pass 2
   }
+  // Out of reach: no contact, cache.reset() and awake (the sleep bound needs
+  // |d| < a_i + a_j). An entry without a contact already holds zeros.
   for (std::int32_t k = 0; k < ns; ++k) {
     const std::int32_t e = s_entry[k];
     in.state[e] = PairState{};
     in.spring[e] = Vec3{};
-    in.sph[e].torque_i = Vec3{};
+    SpheroidPairState& sp = in.sph[e];
+    sp.torque_i = Vec3{};
+    sp.wake = 0.0;
+    sp.cache.reset();
   }
 
   // Pass 2: the pairs in reach and awake, in list order, kBlock at a time:
@@ -256,8 +264,13 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     for (std::int32_t c = c0; c < c1; ++c) {
       if (c + kPrefetchContacts < nc) {
         const std::int32_t ep = c_entry[c + kPrefetchContacts];
-        __builtin_prefetch(in.body + in.partner[ep]);
+        const std::int32_t jp = in.partner[ep];
+        __builtin_prefetch(in.body + jp);
         __builtin_prefetch(in.sph + ep, 1);
+        // for the law below, once the block's geometry is done
+        __builtin_prefetch(in.vel + jp);
+        __builtin_prefetch(in.omg + jp);
+        __builtin_prefetch(in.hertz_radius + jp);
       }
       const std::int32_t e = c_entry[c];
       const std::int32_t i = in.owner[e];
@@ -311,7 +324,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         if (Measure) acc.elastic_energy += L.energy[k];
         acc.friction_dissipation += L.friction[k];
         if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
-        acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.delta[k] / std::min(in.axes[i].y, in.axes[j].y));
+        acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.ratio[k]);
         acc.sliding += L.sliding[k];
         if (Measure) {
           acc.sum_force2 += L.f2[k];
@@ -356,6 +369,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
       L.ri[k] = in.hertz_radius[i];
       L.rj[k] = in.hertz_radius[j];
+      L.minor[k] = std::min(in.axes[i].y, in.axes[j].y);
       const Vec3 rv = in.vel[j] - in.vel[i];
       L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
       const Vec3 wi = in.omg[i], wj = in.omg[j];

@@ -74,7 +74,11 @@
 // of the 3.2 pairs in reach per particle sleep); the moment on j is kept in
 // PairState::moment_axis, so the gather reads one line for an entry of
 // another particle (the moment on i is in the SpheroidPairState, read for
-// the particle's own, consecutive entries).
+// the particle's own, consecutive entries). The warm solves and the contact
+// law run 8 pairs at a time as SIMD (spheroid_warm_lanes.h,
+// spheroid_pairs.cpp). On several threads each takes its run of chunks
+// (thread_runs.h, the integrator's too) for the support data, the pairs and
+// the gather, so it mostly reads the particles it wrote itself.
 #pragma once
 
 #include <cstddef>

@@ -96,6 +96,16 @@ class LeapfrogIntegrator {
     double decay[kLanes] = {}, kick[kLanes] = {}, kick_rot[kLanes] = {};
     double alpha_dt[kLanes] = {}, mass[kLanes] = {}, inertia[kLanes] = {};
   };
+  /// The constants of advance_symmetric_rotation that coef_ lacks, for
+  /// kLanes consecutive spheroids field by field (decay and dt are shared).
+  struct RotationLanes {
+    double kick[kLanes] = {}, inv_i1[kLanes] = {}, inv_i2[kLanes] = {}, dt_inv_i2[kLanes] = {};
+  };
+  SymmetricStepConstants rotation_constants(std::size_t i) const {
+    const RotationLanes& r = rot_coef_[i / kLanes];
+    const std::size_t k = i % kLanes;
+    return {coef_[i / kLanes].decay[k], r.kick[k], r.inv_i1[k], r.inv_i2[k], r.dt_inv_i2[k], dt_};
+  }
   Coefficients coefficients(std::size_t i) const {
     const CoefficientLanes& c = coef_[i / kLanes];
     const std::size_t k = i % kLanes;
@@ -125,13 +135,19 @@ class LeapfrogIntegrator {
   /// results do not depend on the thread count.
   template <bool Measure>
   IntegrationSums advance_sphere_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
+  /// advance_chunk<true, false> kLanes particles at a time (SIMD) for the
+  /// lanes that hold a spheroid with small step angles, the particle's scalar
+  /// step for the others (which depends only on the particle, not on the
+  /// chunks).
+  template <bool Measure>
+  IntegrationSums advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 
   double dt_ = 0;
   bool spheroids_ = false;
   LocalDamping local_;
   std::vector<double> alpha_;
   std::vector<CoefficientLanes> coef_;  ///< particle i: coef_[i / kLanes], lane i % kLanes
-  std::vector<SymmetricStepConstants> rot_coef_;  ///< spheroids (empty without any)
+  std::vector<RotationLanes> rot_coef_;  ///< spheroids (empty without any): as coef_
   std::vector<IntegrationSums> chunk_sums_;
 };
 
