@@ -52,13 +52,12 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     throw std::logic_error("contact forces: neighbour list without spheroid pair states");
   if (spheroids) {
     bodies_.resize(n);
-    hertz_radius_.resize(n);
+    radii_.resize(n);
   }
   PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                     p.radius.data(),   list.offsets().data(), list.owners().data(),
                     pd.partner.data(), pd.spring.data(),      pd.state.data(),
-                    pd.active.data(),  p.semi_axes.data(),    bodies_.data(),
-                    hertz_radius_.data(),
+                    pd.active.data(),  bodies_.data(),        radii_.data(),
                     sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                     p.shape.data(),    pd.spheroid.data(),    cell.h(),
                     cell.velocity_gradient(),                 law,
@@ -123,10 +122,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     const Quaternion* orient = p.orientation.data();
     const Shape* shape = p.shape.data();
     SpheroidSupport* body = bodies_.data();
-    double* hertz_r = hertz_radius_.data();
+    ContactRadii* radii = radii_.data();
     for (std::int32_t i = i0; i < i1; ++i) {
       body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
-      hertz_r[i] = shape[i] == Shape::Spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i];
+      const bool spheroid = shape[i] == Shape::Spheroid;
+      radii[i] = {spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i], spheroid ? axes[i].y : rad[i]};
     }
   };
   // Particles with spheroids: the moment on the partner is in the pair state (one line
@@ -175,84 +175,75 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       sums[c] = kernel(in, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
                        mine.dist2.data());
     };
-    if (spheroids && team > 1) {
-      // Each thread takes its run of consecutive chunks (thread_runs.h; the
-      // integrator's run too) for the support data, the pairs and the
-      // gather, so it mostly reads the particles it wrote; barriers between.
-#pragma omp single
-      runs->prepare(nchunks, n, team);
-      // (implicit barrier: the runs are ready)
-      const int t = omp_get_thread_num();
-      const auto [c0, c1] = runs->run(t);
-      const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
-      double start = omp_get_wtime();
-      refresh_bodies(i0, i1);
-      double busy = omp_get_wtime() - start;
-#pragma omp barrier
-      start = omp_get_wtime();
-      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(c);
-      busy += omp_get_wtime() - start;
-#pragma omp barrier
-      start = omp_get_wtime();
-      for (std::int32_t i = i0; i < i1; ++i) gather_spheroid(i);
-      runs->record(t, busy + (omp_get_wtime() - start));
-    } else if (spheroids) {  // one thread
-      refresh_bodies(0, ni);
+    if (team == 1) {
+      // One thread, chunks in ascending order: the pair loop visits every
+      // pair in list order, the order of the per-particle sums (scatter),
+      // or the gather below makes them (set_pair_loop_sum_threshold).
+      if (spheroids) refresh_bodies(0, ni);
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
       if (!scatter)
-        for (std::int32_t i = 0; i < ni; ++i) gather_spheroid(i);
-    } else if (scatter) {
-      // One thread, chunks in ascending order: the pair loop visits every
-      // pair in list order, the order of the per-particle sums.
-      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
-    } else if (team == 1) {
-      // One thread asked for the gather (set_pair_loop_sum_threshold): pair loop, then gather
-      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
-      for (std::int32_t i = 0; i < ni; ++i) gather_sphere(i);
+        for (std::int32_t i = 0; i < ni; ++i) spheroids ? gather_spheroid(i) : gather_sphere(i);
     } else {
-      // Spheres: each thread takes its run of consecutive chunks (the run of
-      // the integrator too) and sums in its own buffers (split_sums.h).
+      // Several threads: each takes its run of consecutive chunks (the run
+      // of the integrator too) for the spheroids' support data, the pairs
+      // and the sums, so it mostly reads the particles it wrote itself.
+      // Spheres sum in the thread's own buffers (split_sums.h); spheroids
+      // gather every particle (their pair loop is dearer per contact, and
+      // adding there cost more than the gather saved: 1.5 % at 12 000).
 #pragma omp single
       {
-        runs->prepare(nchunks, n, omp_get_num_threads());
-        split->prepare(list, n, *runs);
-        *split_used = true;
+        runs->prepare(nchunks, n, team);
+        if (!spheroids) split->prepare(list, n, *runs);
+        *split_used = !spheroids;
       }
       // (implicit barrier: the plan is ready)
       const int t = omp_get_thread_num();
       const auto [c0, c1] = runs->run(t);
-      const double start = omp_get_wtime();
+      double start = omp_get_wtime();
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
-      Vec3* fb = split->force(t);
-      Vec3* tb = split->torque(t);
-      std::fill(fb + i0, fb + i1, Vec3{});
-      std::fill(tb + i0, tb + i1, Vec3{});
-      for (const std::int32_t j : split->foreign(t)) {
-        fb[j] = Vec3{};
-        tb[j] = Vec3{};
+      double busy = 0.0;
+      if (spheroids) {
+        refresh_bodies(i0, i1);
+        busy = omp_get_wtime() - start;
+#pragma omp barrier
+        start = omp_get_wtime();
       }
+      Vec3* fb = spheroids ? nullptr : split->force(t);
+      Vec3* tb = spheroids ? nullptr : split->torque(t);
       PairInputs own = in;
-      own.force_out = fb;
-      own.torque_out = tb;
+      if (!spheroids) {
+        std::fill(fb + i0, fb + i1, Vec3{});
+        std::fill(tb + i0, tb + i1, Vec3{});
+        for (const std::int32_t j : split->foreign(t)) {
+          fb[j] = Vec3{};
+          tb[j] = Vec3{};
+        }
+        own.force_out = fb;
+        own.torque_out = tb;
+      }
       for (std::int32_t c = c0; c < c1; ++c) {
         const std::int32_t b = c * kChunkSize, e = std::min<std::int32_t>(ni, b + kChunkSize);
         mine.reserve(static_cast<std::size_t>(in.off[e] - in.off[b]));
         sums[c] = kernel(own, b, e, mine.entry.data(), mine.separated.data(), mine.branch.data(), mine.dist2.data());
       }
-      const double evaluated = omp_get_wtime();
+      busy += omp_get_wtime() - start;
 #pragma omp barrier
       const double summing = omp_get_wtime();
       // every pair state is final: the sole particles' sums are the buffers',
       // the others gather (below, same bits)
-      for (std::int32_t i = i0; i < i1; ++i) {
-        if (split->sole(i)) {
-          fout[i] = fb[i];
-          tout[i] = tb[i];
-        } else {
-          gather_sphere(i);
+      if (spheroids) {
+        for (std::int32_t i = i0; i < i1; ++i) gather_spheroid(i);
+      } else {
+        for (std::int32_t i = i0; i < i1; ++i) {
+          if (split->sole(i)) {
+            fout[i] = fb[i];
+            tout[i] = tb[i];
+          } else {
+            gather_sphere(i);
+          }
         }
       }
-      runs->record(t, (evaluated - start) + (omp_get_wtime() - summing));
+      runs->record(t, busy + (omp_get_wtime() - summing));
     }
   }
 

@@ -45,9 +45,8 @@ struct PairInputs {
   PairState* state;
   std::uint8_t* active;
   // spheroid path only (null/unused for spheres)
-  const Vec3* axes;
-  const SpheroidSupport* body;  // per particle, this evaluation
-  const double* hertz_radius;   // per particle: R_i of eq. 104, this evaluation
+  const SpheroidSupport* body;  // per particle, this evaluation (bound: a >= b, the reach)
+  const ContactRadii* radii;    // per particle: R_i of eq. 104 and b, this evaluation
   double clock;                 // motion clock [m] (ContactForces::set_motion_clock); +inf: no sleep
   bool sleep;                   // pairs found apart sleep
   const Shape* shape;

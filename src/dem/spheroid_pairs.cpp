@@ -21,7 +21,7 @@ struct PairGeometry {
 };
 
 /// Pairs in reach whose geometry is found before their contact law is taken.
-constexpr std::int32_t kBlock = 64;
+constexpr std::int32_t kBlock = 256;
 
 /// The counters of a warm solve that converged in one Newton step.
 inline void count_warm_solve(SpheroidContactStats& stats) {
@@ -176,7 +176,6 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     if (e + kPrefetchEntries < e_end) {
       const std::int32_t jp = in.partner[e + kPrefetchEntries];
       __builtin_prefetch(in.frac + jp);
-      __builtin_prefetch(in.axes + jp);
       __builtin_prefetch(in.body + jp);
       __builtin_prefetch(&in.sph[e + kPrefetchEntries].wake, 1);
     }
@@ -185,7 +184,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const Vec3 ds = PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
     const Vec3 d = h * ds;
     const double dist2 = norm2(d);
-    const double reach = in.axes[i].x + in.axes[j].x;
+    const double reach = in.body[i].bound + in.body[j].bound;  // a_i + a_j (a >= b)
     // Both tests are coin flips for the branch predictor, so they are
     // combined as integers (&, no short-circuit branch).
     const std::int32_t in_reach = dist2 < reach * reach ? 1 : 0;
@@ -270,7 +269,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         // for the law below, once the block's geometry is done
         __builtin_prefetch(in.vel + jp);
         __builtin_prefetch(in.omg + jp);
-        __builtin_prefetch(in.hertz_radius + jp);
+        __builtin_prefetch(in.radii + jp);
       }
       const std::int32_t e = c_entry[c];
       const std::int32_t i = in.owner[e];
@@ -355,7 +354,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         sp.torque_i = Vec3{};
         // Sleep on half the gap, less a floor for the rounding of g (~eps
         // (a_i + a_j)) and of the clock (~eps C).
-        const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.axes[i].x + in.axes[j].x + in.clock);
+        const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.body[i].bound + in.body[j].bound + in.clock);
         if (in.sleep && gm.gap > floor) sp.wake = in.clock + 0.5 * (gm.gap - floor);
         continue;
       }
@@ -367,9 +366,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       L.nx[k] = gm.nrm.x; L.ny[k] = gm.nrm.y; L.nz[k] = gm.nrm.z;
       L.cx[k] = gm.cpt.x; L.cy[k] = gm.cpt.y; L.cz[k] = gm.cpt.z;
       // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
-      L.ri[k] = in.hertz_radius[i];
-      L.rj[k] = in.hertz_radius[j];
-      L.minor[k] = std::min(in.axes[i].y, in.axes[j].y);
+      const ContactRadii ri = in.radii[i], rj = in.radii[j];
+      L.ri[k] = ri.hertz;
+      L.rj[k] = rj.hertz;
+      L.minor[k] = std::min(ri.minor, rj.minor);
       const Vec3 rv = in.vel[j] - in.vel[i];
       L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
       const Vec3 wi = in.omg[i], wj = in.omg[j];

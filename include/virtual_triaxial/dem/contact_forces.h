@@ -76,9 +76,8 @@
 // another particle (the moment on i is in the SpheroidPairState, read for
 // the particle's own, consecutive entries). The warm solves and the contact
 // law run 8 pairs at a time as SIMD (spheroid_warm_lanes.h,
-// spheroid_pairs.cpp). On several threads each takes its run of chunks
-// (thread_runs.h, the integrator's too) for the support data, the pairs and
-// the gather, so it mostly reads the particles it wrote itself.
+// spheroid_pairs.cpp). Several threads take the thread runs as for
+// spheres (support data included), and every particle gathers.
 #pragma once
 
 #include <cstddef>
@@ -94,6 +93,14 @@
 #include "virtual_triaxial/dem/viscous_contact_damping.h"
 
 namespace vt::dem {
+
+/// Per-particle radii the spheroid contact law reads for a partner (one
+/// line with both): R_i of eq. 104, the average radius (a + 2b)/3 (R for a
+/// sphere), and the minor semi-axis b (R for a sphere) [m].
+struct ContactRadii {
+  double hertz = 0.0;
+  double minor = 0.0;
+};
 
 /// Sums over all contacts of one force evaluation.
 struct ContactSums {
@@ -182,7 +189,7 @@ class ContactForces {
   std::size_t pair_loop_bytes_ = 0;
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
-  std::vector<double> hertz_radius_;     ///< spheroid path: R_i of eq. 104 per particle, every call
+  std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
   SplitSums split_;                      ///< sphere path on several threads
   ThreadRuns runs_;                      ///< chunks per thread (sphere path and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
