@@ -6,6 +6,7 @@
 // Private to src/dem.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -84,6 +85,58 @@ inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& l
   power += eta_t * norm2(vt);  // the operations of the branching form
   return sliding ? normal_power : power;
 }
+
+/// Lane k of a kernel's lanes (fields rv*, wi*, wj*, s*, mi, mj): the motion
+/// of the pair of entry e (owner i, partner j), v_j - v_i, both spins and
+/// the spring; the masses for the viscous dashpots.
+template <bool Viscous, class Lanes>
+inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, std::int32_t e) {
+  const Vec3 rv = in.vel[j] - in.vel[i];
+  L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
+  const Vec3 wi = in.omg[i], wj = in.omg[j];
+  L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
+  L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
+  const Vec3 sp = in.spring[e];
+  L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
+  if constexpr (Viscous) {
+    L.mi[k] = in.mass[i];
+    L.mj[k] = in.mass[j];
+  }
+}
+
+/// A chunk's sums over its contacts, added one contact at a time in list
+/// order by both kernels. The virial sum d (x) F is kept as nine plain
+/// numbers (registers) until finish().
+struct ChunkSums {
+  ContactSums acc;
+  double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
+  /// Lane k of a kernel's lanes (fields dx, dy, dz, energy, friction, power,
+  /// ratio, sliding, f2), whose force on j is f.
+  template <bool Measure, bool Viscous, class Lanes>
+  void add(const Lanes& L, int k, const Vec3& f, double dt) {
+    const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
+    vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
+    vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
+    vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
+    if (Measure) acc.elastic_energy += L.energy[k];
+    acc.friction_dissipation += L.friction[k];
+    if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
+    acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.ratio[k]);
+    acc.sliding += L.sliding[k];
+    if (Measure) {
+      acc.sum_force2 += L.f2[k];
+      acc.sum_force += std::sqrt(L.f2[k]);
+    }
+  }
+  /// The sums with `contacts` contacts.
+  ContactSums finish(std::int64_t contacts) {
+    acc.contacts = contacts;
+    acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
+    acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
+    acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
+    return acc;
+  }
+};
 
 /// A pair kernel: evaluates the pairs owned by particles [i_begin, i_end)
 /// (list entries off[i_begin] .. off[i_end]), stores each entry's result in

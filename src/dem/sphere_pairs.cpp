@@ -118,8 +118,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 
   // Pass 2: the contacts, kLanes at a time (SphereLanes), stored and summed
   // in list order.
-  ContactSums acc;
-  double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
+  ChunkSums sums;
   SphereLanes L;
   std::int32_t lane_e[kLanes], lane_i[kLanes], lane_j[kLanes];
   for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
@@ -147,17 +146,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       L.dist2[k] = c_dist2[c];
       L.ri[k] = in.rad[i];
       L.rj[k] = in.rad[j];
-      const Vec3 rv = in.vel[j] - in.vel[i];
-      L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
-      const Vec3 wi = in.omg[i], wj = in.omg[j];
-      L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
-      L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
-      const Vec3 sp = in.spring[e];
-      L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
-      if constexpr (Viscous) {
-        L.mi[k] = in.mass[i];
-        L.mj[k] = in.mass[j];
-      }
+      set_motion<Viscous>(L, k, in, i, j, e);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     for (int k = 0; k < lanes; ++k) {
@@ -177,26 +166,10 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         in.torque_out[j] = fused_multiply_add(L.lj[k], m, in.torque_out[j]);
       }
       in.active[e] = hov != 0.0 ? 1 : 0;
-      const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
-      vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
-      vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
-      vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
-      if (Measure) acc.elastic_energy += L.energy[k];
-      acc.friction_dissipation += L.friction[k];
-      if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
-      acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.ratio[k]);
-      acc.sliding += L.sliding[k];
-      if (Measure) {
-        acc.sum_force2 += L.f2[k];
-        acc.sum_force += std::sqrt(L.f2[k]);
-      }
+      sums.add<Measure, Viscous>(L, k, f, dt);
     }
   }
-  acc.contacts = nc;
-  acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
-  acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
-  acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
-  return acc;
+  return sums.finish(nc);
 }
 
 }  // namespace

@@ -220,10 +220,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // Pass 2: the pairs in reach and awake, in list order, kBlock at a time:
   // first the geometry of the block (the warm spheroid pairs 8 at a time as
   // SIMD), then the contact law of each pair in list order.
-  ContactSums acc;
-  acc.spheroid.asleep = static_cast<std::uint64_t>(slept);
+  ChunkSums sums;
+  SpheroidContactStats& stats = sums.acc.spheroid;
+  stats.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
-  double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
   PairGeometry geo[kBlock];
   LawLanes L;
   std::int32_t law_e[kLawLanes];
@@ -246,7 +246,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
             gm.gap = lanes.gap[k];
             break;
           case WarmOutcome::Solved:
-            count_warm_solve(acc.spheroid);
+            count_warm_solve(stats);
             gm.delta = lanes.delta[k];
             gm.gap = -gm.delta;
             gm.nrm = lanes.normal(k);
@@ -254,7 +254,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
             if (gm.delta > 0.0) advance_cache(in.sph[e].cache, gm.nrm);
             break;
           case WarmOutcome::Scalar:
-            gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], acc.spheroid);
+            gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], stats);
             break;
         }
       }
@@ -287,7 +287,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         lane_c[queued++] = c;
         if (queued == SpheroidWarmLanes::kLanes) run_lanes();
       } else {
-        geo[c - c0] = scalar_geometry(in, i, e, d, c_dist2[c], acc.spheroid);
+        geo[c - c0] = scalar_geometry(in, i, e, d, c_dist2[c], stats);
       }
     }
     if (queued > 0) run_lanes();
@@ -316,19 +316,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
           in.force_out[j] += f;
           in.torque_out[j] += mj;
         }
-        const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
-        vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
-        vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
-        vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
-        if (Measure) acc.elastic_energy += L.energy[k];
-        acc.friction_dissipation += L.friction[k];
-        if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
-        acc.max_overlap_ratio = std::max(acc.max_overlap_ratio, L.ratio[k]);
-        acc.sliding += L.sliding[k];
-        if (Measure) {
-          acc.sum_force2 += L.f2[k];
-          acc.sum_force += std::sqrt(L.f2[k]);
-        }
+        sums.add<Measure, Viscous>(L, k, f, dt);
       }
       contacts += nlaw;
       nlaw = 0;
@@ -370,26 +358,12 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       L.ri[k] = ri.hertz;
       L.rj[k] = rj.hertz;
       L.minor[k] = std::min(ri.minor, rj.minor);
-      const Vec3 rv = in.vel[j] - in.vel[i];
-      L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
-      const Vec3 wi = in.omg[i], wj = in.omg[j];
-      L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
-      L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
-      const Vec3 sp = in.spring[e];
-      L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
-      if constexpr (Viscous) {
-        L.mi[k] = in.mass[i];
-        L.mj[k] = in.mass[j];
-      }
+      set_motion<Viscous>(L, k, in, i, j, e);
       if (++nlaw == kLawLanes) run_law();
     }
     if (nlaw > 0) run_law();
   }
-  acc.contacts = contacts;
-  acc.virial.m[0][0] = vxx; acc.virial.m[0][1] = vxy; acc.virial.m[0][2] = vxz;
-  acc.virial.m[1][0] = vyx; acc.virial.m[1][1] = vyy; acc.virial.m[1][2] = vyz;
-  acc.virial.m[2][0] = vzx; acc.virial.m[2][1] = vzy; acc.virial.m[2][2] = vzz;
-  return acc;
+  return sums.finish(contacts);
 }
 
 }  // namespace
