@@ -163,7 +163,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   bool* split_used = &split_used_;
 
   // One parallel region: pair evaluation, barrier, sums (on one thread the
-  // pair loop sums per particle itself, in the same order: no gather).
+  // pair loop sums per particle itself, in the same order: no gather; on
+  // several, spheres sum in thread buffers and gather at the runs' ends,
+  // spheroids gather every particle).
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];

@@ -236,8 +236,9 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
 /// translation, wrap and displacement of advance_chunk<true, false>,
 /// computed by one loop without jumps into per-lane results (SIMD), the
 /// step angles' cos and sin by their polynomials. A lane outside what that
-/// covers (a sphere of a mixed sample, L = 0, a half step angle above 1/16
-/// rad) is redone by advance_chunk<true, false> for its particle; then every
+/// covers (a sphere of a mixed sample, a body with I2 != I3, L = 0, a half
+/// step angle above 1/16 rad) is redone by advance_chunk<true, false> for
+/// its particle; then every
 /// lane is stored and its terms summed one particle at a time in storage
 /// order. Which particles take the lanes depends only on their own state,
 /// so results do not depend on the thread count; they agree with
@@ -278,7 +279,8 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
     for (int a = 0; a < 4; ++a) pq[a][k] = orient[4 * i + a];
     pi1[k] = inertia[3 * i];
     pi2[k] = inertia[3 * i + 1];
-    spheroid[k] = in.shape[i] == Shape::Spheroid ? 1.0 : 0.0;
+    // a symmetric top (I2 = I3; a file may hold any inertia): else the general step
+    spheroid[k] = in.shape[i] == Shape::Spheroid && inertia[3 * i + 1] == inertia[3 * i + 2] ? 1.0 : 0.0;
   };
   const auto update = [&](std::size_t i0, std::size_t k) __attribute__((always_inline)) {
     const CoefficientLanes& c = coef_[i0 / kLanes];

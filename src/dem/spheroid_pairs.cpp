@@ -46,7 +46,7 @@ struct LawLanes {
   double rvx[kLawLanes], rvy[kLawLanes], rvz[kLawLanes];  // v_j - v_i [m/s]
   double wix[kLawLanes], wiy[kLawLanes], wiz[kLawLanes], wjx[kLawLanes], wjy[kLawLanes], wjz[kLawLanes];
   double sx[kLawLanes], sy[kLawLanes], sz[kLawLanes];  // spring [N]: in, then out
-  double mi[kLawLanes], mj[kLawLanes];                 // viscous dashpots only
+  double mi[kLawLanes] = {}, mj[kLawLanes] = {};       // viscous dashpots only (else zeros)
   double minor[kLawLanes];                             // min(b_i, b_j) [m]
   // results
   double fx[kLawLanes], fy[kLawLanes], fz[kLawLanes];     // force on j [N]
@@ -140,7 +140,7 @@ PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t 
 
 /// Pairs owned by particles [i_begin, i_end) when the particles include
 /// spheroids (in.body: SpheroidSupport of every particle, this evaluation).
-/// Pass 1 keeps the pairs whose bounding spheres (radius a) overlap, except
+/// Pass 1 keeps the pairs whose bounding spheres (radius bound = a) overlap, except
 /// those asleep (found apart earlier and certified apart since by the motion
 /// clock, ContactForces::set_motion_clock), and
 /// drops the solver cache of every other pair (so the cache of a pair
@@ -154,8 +154,9 @@ PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t 
 /// or without a warm cache, to scalar_geometry (the certificate, then the
 /// common-normal solver of spheroid_contact.h; a sphere enters it as a
 /// spheroid with a = b = R). Each pair's geometry depends only on its own
-/// inputs, whichever group takes it. Then, in list order, Hertz-Mindlin with R_i the average radius (a + 2b)/3 (eq. 104; R for
-/// a sphere) at the contact point c (relative to x_i):
+/// inputs, whichever group takes it. Then, in list order, Hertz-Mindlin
+/// with R_i the average radius (a + 2b)/3 (eq. 104; R for a sphere) at the
+/// contact point c (relative to x_i), kLawLanes contacts at a time:
 ///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
 ///   T_i = c x F_on_i,  T_j = (c - d) x F_on_j,
 /// so normal forces give moments on spheroids.

@@ -203,6 +203,52 @@ TEST(SpheroidWarmLanes, WhatOneStepCannotSettleGoesToTheScalarSolver) {
   EXPECT_NEAR(sc.overlap, 2e-3 * b, 1e-14 * b);
 }
 
+TEST(SpheroidWarmLanes, StartsOffUnitLengthMaximaAndFarPairsGoToTheScalarSolver) {
+  const double b = 1e-3, a = 1.5 * b;
+  const SpheroidSupport si = SpheroidSupport::of(Spheroid(a, b)), sj = SpheroidSupport::of(Spheroid(a, b));
+  SpheroidWarmLanes lanes;
+  // 0: a pair in contact whose cached normal has |n|^2 = 1 + 2e-6: one step
+  // for 1/|v| leaves it within 1e-6 of unit length afterwards, so only the
+  // start's own test can hand it back.
+  Rng rng(8);
+  const Pair p = place(rng, b, 1.2, 1.4, 1e-3 * b);
+  SpheroidContactCache off_unit = solved_cache(p);
+  off_unit.normal = std::sqrt(1.0 + 2e-6) * off_unit.normal;
+  off_unit.has_previous = false;
+  lanes.set(0, SpheroidSupport::of(p.si), SpheroidSupport::of(p.sj), p.d, off_unit);
+  // 1: coincident aligned spheroids, started along their axes: g is at a
+  // maximum there (gradient 0, H = 2 b^2/a - 2a < 0): one "converged" step
+  // would report delta = 2a instead of the true 2b.
+  SpheroidContactCache along_axis;
+  along_axis.normal = {1.0, 0.0, 0.0};
+  along_axis.valid = true;
+  lanes.set(1, si, sj, Vec3{}, along_axis);
+  // 2: centres 1.01 (a_i + a_j) apart, started across the centre line
+  // (g > 0 there, no certificate): bounding spheres apart.
+  SpheroidContactCache across;
+  across.normal = {0.0, 1.0, 0.0};
+  across.valid = true;
+  const Vec3 far{2.02 * a, 0.0, 0.0};
+  lanes.set(2, si, sj, far, across);
+  for (int k = 3; k < kLanes; ++k) lanes.repeat(0, k);
+  solve_spheroid_warm_lanes(lanes, kTolerance);
+  EXPECT_EQ(lanes.outcome(0), WarmOutcome::Scalar);
+  EXPECT_EQ(lanes.outcome(1), WarmOutcome::Scalar);
+  EXPECT_EQ(lanes.outcome(2), WarmOutcome::Scalar);
+  // what the scalar solver then finds
+  SpheroidContactCache c0 = off_unit, c1 = along_axis, c2 = across;
+  EXPECT_NEAR(detect_spheroid_contact(SpheroidSupport::of(p.si), SpheroidSupport::of(p.sj), p.d, &c0).overlap,
+              1e-3 * b, 1e-14 * b);
+  EXPECT_NEAR(detect_spheroid_contact(si, sj, Vec3{}, &c1).overlap, 2.0 * b, 1e-14 * b);
+  EXPECT_LT(detect_spheroid_contact(si, sj, far, &c2).overlap, 0.0);
+  // the same start at unit length settles in the lanes
+  SpheroidContactCache unit = off_unit;
+  unit.normal = (1.0 / norm(unit.normal)) * unit.normal;
+  lanes.set(0, SpheroidSupport::of(p.si), SpheroidSupport::of(p.sj), p.d, unit);
+  solve_spheroid_warm_lanes(lanes, kTolerance);
+  EXPECT_EQ(lanes.outcome(0), WarmOutcome::Solved);
+}
+
 TEST(SpheroidWarmLanes, ALaneResultDoesNotDependOnTheOtherLanes) {
   // The same pair in lane 0 among pairs in contact and in lane 5 among
   // copies of a pair apart: the same bits (so a pair's result does not

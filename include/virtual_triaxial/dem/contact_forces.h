@@ -29,9 +29,11 @@
 //
 // Spheroids (chapter 4; used only when NeighborList::has_spheroids(), so a
 // sample of spheres never runs this code): pairs whose bounding spheres
-// (radius a) overlap go through detect_spheroid_contact (common normal,
-// spheroid_contact.h; warm-started from the pair's cache kept with its
-// spring; fallbacks and failures counted in ContactSums::spheroid). A pair
+// (radius max(a, b) = a, prolate) overlap go through the common-normal
+// solver (spheroid_contact.h; warm-started from the pair's cache kept with
+// its spring; the warm one-step case 8 pairs at a time,
+// spheroid_warm_lanes.h; fallbacks and failures counted in
+// ContactSums::spheroid). A pair
 // with a spheroid gives overlap delta, normal n and contact point c
 // (relative to x_i); sphere-sphere pairs of a mixed sample take the closed
 // form (no solver). Hertz-Mindlin (hertz_mindlin.h) with R* from the average
@@ -166,7 +168,7 @@ class ContactForces {
   /// Sphere path on several threads: particles of the last compute() whose
   /// sums took the gather (split_sums.h); 0 otherwise.
   std::size_t split_gathered() const { return split_used_ ? split_.gathered() : 0; }
-  /// The runs of chunks per thread of the sphere path, which the integrator
+  /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
   ThreadRuns& thread_runs() { return runs_; }
   const ThreadRuns& thread_runs() const { return runs_; }
@@ -191,7 +193,7 @@ class ContactForces {
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
   SplitSums split_;                      ///< sphere path on several threads
-  ThreadRuns runs_;                      ///< chunks per thread (sphere path and integrator)
+  ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
 };
 

@@ -97,7 +97,8 @@ class LeapfrogIntegrator {
     double alpha_dt[kLanes] = {}, mass[kLanes] = {}, inertia[kLanes] = {};
   };
   /// The constants of advance_symmetric_rotation that coef_ lacks, for
-  /// kLanes consecutive spheroids field by field (decay and dt are shared).
+  /// kLanes consecutive particles field by field (decay and dt are shared;
+  /// kept only when the particles include spheroids).
   struct RotationLanes {
     double kick[kLanes] = {}, inv_i1[kLanes] = {}, inv_i2[kLanes] = {}, dt_inv_i2[kLanes] = {};
   };
@@ -136,9 +137,9 @@ class LeapfrogIntegrator {
   template <bool Measure>
   IntegrationSums advance_sphere_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
   /// advance_chunk<true, false> kLanes particles at a time (SIMD) for the
-  /// lanes that hold a spheroid with small step angles, the particle's scalar
-  /// step for the others (which depends only on the particle, not on the
-  /// chunks).
+  /// lanes that hold a symmetric spheroid (I2 = I3) with L != 0 and small
+  /// step angles, the particle's scalar step for the others (which depends
+  /// only on the particle, not on the chunks).
   template <bool Measure>
   IntegrationSums advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 

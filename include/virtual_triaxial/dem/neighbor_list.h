@@ -56,7 +56,7 @@ struct SpheroidPairState {
   /// The pair was found apart with gap g < 0 along some fixed normal when the
   /// motion clock (ContactForces::set_motion_clock) read C0; it stays apart
   /// while the clock reads below wake = C0 - g/2 (0: awake) [m]. Always
-  /// finite and >= 0 (the pair loop resets it as wake * 0 or 1).
+  /// finite and >= 0 (the pair loop sets it to 0 when the pair leaves reach).
   double wake = 0.0;
 };
 

@@ -84,9 +84,11 @@
 // Swapping i and j gives n -> -n and the same overlap (to rounding).
 // Cost (one core; tests/unit/test_spheroid_contact.cpp prints it): a Newton
 // step is ~90 flops with 2 square roots and 4 divisions on its critical path.
-// The pair loop (src/dem/spheroid_pairs.cpp) first evaluates g at the warm start for
-// its separation certificate and passes those support values in
-// (SpheroidStart), so a warm solve repeats none of them.
+// The pair loop (src/dem/spheroid_pairs.cpp) takes the warm one-step case 8
+// pairs at a time (spheroid_warm_lanes.h); for the pairs those hand back it
+// first evaluates g at the warm start for its separation certificate and
+// passes those support values in (SpheroidStart), so a warm solve repeats
+// none of them.
 // Warm start: 1 step when the extrapolated normal is within 1e-5 rad (steady
 // turning up to 1e-3 rad per step is tested), 2 steps for errors up to
 // ~3e-3 rad; cold: 2-4 steps (mean 2.8 for aspect 1-2). Measured on the

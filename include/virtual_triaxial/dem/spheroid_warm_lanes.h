@@ -14,20 +14,24 @@
 //   accept   H positive definite and |s| <= step tolerance; then
 //            n* = (n0 + s_a t_a)/|.|, p(n*) from the series of h about n0,
 //            delta = h_i + h_j - n*.d, c = (p_i - p_j + d)/2
-//            and delta <= r_i + r_j - |d| (the far-side check).
+//            and delta <= (r_i + r_j)(1 + 1e-12) - |d| (the far-side check,
+//            r = max(a, b)).
 // Outcome per lane: Apart (gap = -g(n0) > 0), Solved (delta, n*, c; the
 // solve counts one warm Newton step) or Scalar: the start or the result is
-// outside what one step covers (start not within 1e-6 of unit length, H not
-// positive definite, step above the tolerance, series out of range, far-side
-// check failed, bounding spheres apart), and the caller runs
-// detect_spheroid_contact instead, which restarts from the cache.
+// outside what one step covers (|v|^2 of the start or of the stepped normal
+// not within 1e-6 of 1, H not positive definite, step above the tolerance
+// or not finite, series out of range, far-side check failed, bounding
+// spheres apart), and the caller runs detect_spheroid_contact instead,
+// which restarts from the cache.
 //
 // A lane's result depends only on its own inputs (every lane runs the same
-// operations; unused lanes may hold anything finite), so a pair gets the
+// operations; the caller fills unused lanes with copies), so a pair gets the
 // same bits whichever group or thread takes it. They agree with
 // detect_spheroid_contact's to rounding (the compiler fuses multiply-adds
 // differently in the two), which tests/unit/test_spheroid_warm_lanes.cpp
-// checks, with every outcome.
+// checks on moving pairs, with the Apart and Scalar outcomes (a stale start,
+// a start off unit length, a maximum of g with H not positive definite,
+// bounding spheres apart) and the independence of the lanes.
 #pragma once
 
 #include <cstdint>
