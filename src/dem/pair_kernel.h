@@ -114,10 +114,13 @@ struct ChunkSums {
   /// ratio, sliding, f2), whose force on j is f.
   template <bool Measure, bool Viscous, class Lanes>
   void add(const Lanes& L, int k, const Vec3& f, double dt) {
+    // Fused multiply-adds written out: whether the compiler fuses each of
+    // them otherwise depends on the code around (it once fused eight of the
+    // nine), and the stress feeds the servo, so a run would follow it.
     const double dx = L.dx[k], dy = L.dy[k], dz = L.dz[k];
-    vxx += dx * f.x; vxy += dx * f.y; vxz += dx * f.z;
-    vyx += dy * f.x; vyy += dy * f.y; vyz += dy * f.z;
-    vzx += dz * f.x; vzy += dz * f.y; vzz += dz * f.z;
+    vxx = std::fma(dx, f.x, vxx); vxy = std::fma(dx, f.y, vxy); vxz = std::fma(dx, f.z, vxz);
+    vyx = std::fma(dy, f.x, vyx); vyy = std::fma(dy, f.y, vyy); vyz = std::fma(dy, f.z, vyz);
+    vzx = std::fma(dz, f.x, vzx); vzy = std::fma(dz, f.y, vzy); vzz = std::fma(dz, f.z, vzz);
     if (Measure) acc.elastic_energy += L.energy[k];
     acc.friction_dissipation += L.friction[k];
     if constexpr (Viscous) acc.viscous_dissipation += dt * L.power[k];
