@@ -11,17 +11,16 @@
 #include <unistd.h>
 
 #include "support/scenes.h"
+#include "support/state_compare.h"
 #include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/dem/simulation.h"
 
 using namespace vt::dem;
+using vt::test::expect_same_state;
+using vt::test::same_bits;
 
 namespace {
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
 
 SimulationState loaded_packing(int particles = 400) {
   vt::test::CloudScene sc = vt::test::polydisperse_cloud(particles, 1.8, 5);
@@ -38,23 +37,6 @@ SimulationState loaded_packing(int particles = 400) {
 
 }  // namespace
 
-void expect_same_state(const SimulationState& a, const SimulationState& b) {
-  EXPECT_TRUE(same_bits(a.particles.frac, b.particles.frac));
-  EXPECT_TRUE(same_bits(a.particles.velocity, b.particles.velocity));
-  EXPECT_TRUE(same_bits(a.particles.omega, b.particles.omega));
-  ASSERT_EQ(a.contacts.size(), b.contacts.size());
-  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
-    EXPECT_EQ(a.contacts[k].id_a, b.contacts[k].id_a);
-    EXPECT_EQ(a.contacts[k].id_b, b.contacts[k].id_b);
-    EXPECT_EQ(0, std::memcmp(&a.contacts[k].spring, &b.contacts[k].spring, sizeof(Vec3)));
-  }
-  EXPECT_EQ(0, std::memcmp(&a.h, &b.h, sizeof(Mat3)));
-  EXPECT_EQ(a.step, b.step);
-  EXPECT_EQ(0, std::memcmp(&a.time, &b.time, sizeof(double)));
-  EXPECT_EQ(0, std::memcmp(&a.energy.boundary_work, &b.energy.boundary_work, sizeof(double)));
-  EXPECT_EQ(0, std::memcmp(&a.energy.damping, &b.energy.damping, sizeof(double)));
-  EXPECT_EQ(0, std::memcmp(&a.energy.friction, &b.energy.friction, sizeof(double)));
-}
 
 TEST(Restart, InMemoryStateContinuesBitForBit) {
   const SimulationState start = loaded_packing();

@@ -1,31 +1,32 @@
 // Spheroids in the simulation core (issue 5): particles, contact path
 // (common normal, Hertz-Mindlin at the contact point), rigid-body rotation,
-// time scale and damping, sample-file restart, and the acceptance tests:
-// a sphere given as a spheroid of aspect 1 reproduces the sphere path, pair
-// symmetries, and energy conservation of an undamped frictionless gas.
+// time scale and damping, and the acceptance tests: a sphere given as a
+// spheroid of aspect 1 reproduces the sphere path, pair symmetries, and
+// energy conservation of an undamped frictionless gas (restart, thread count
+// and sleeping pairs: test_spheroid_restart_sleep.cpp).
 #include <gtest/gtest.h>
 
 #include <cstdint>
-
-#include <omp.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <vector>
 
 #include "support/scenes.h"
+#include "support/spheroid_scenes.h"
 #include "virtual_triaxial/dem/cloud_generator.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/spheroid.h"
 #include "virtual_triaxial/dem/spheroid_contact.h"
-#include "virtual_triaxial/io/sample_file.h"
 
 using namespace vt::dem;
+using vt::test::add_at;
+using vt::test::axis_rotation;
+using vt::test::dense_spheroid_gas;
+using vt::test::PairScene;
 
 namespace {
 
@@ -33,12 +34,7 @@ constexpr double kRho = 2650.0;
 // Gas: steps in the suite and the tolerance (see the acceptance test).
 constexpr std::int64_t kGasSteps = 100000;  // 1e5 steps take ~7 s on one core
 constexpr double kGasTolerance = 1e-3;
-constexpr std::int64_t kPackingSteps = 10000;
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
-}
 
 double max_norm(const std::vector<Vec3>& v) {
   double m = 0;
@@ -52,17 +48,7 @@ double max_diff(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return m;
 }
 
-/// Two-particle scene in a large cubic cell (no periodic image within reach).
-struct PairScene {
-  Particles p;
-  PeriodicCell cell{Vec3{0.02, 0.02, 0.02}};
-};
 
-/// Spheroid (a, b, q) at world position x [m] in the pair scene's cell.
-void add_at(PairScene& s, std::int64_t id, double a, double b, const Quaternion& q, const Vec3& x,
-            const Vec3& v = {}, const Vec3& w = {}) {
-  s.p.add_spheroid(id, a, b, kRho, s.cell.h_inverse() * x, q, v, w);
-}
 
 /// Forces and torques of one evaluation (the first step) of a scene.
 struct Evaluation {
@@ -76,7 +62,6 @@ Evaluation evaluate(Particles p, const PeriodicCell& cell, const SimulationSetti
   return {sim.forces(), sim.torques(), sim.measures()};
 }
 
-Quaternion axis_rotation(const Vec3& u, double phi) { return axis_angle((1.0 / norm(u)) * u, phi); }
 
 }  // namespace
 
@@ -376,25 +361,6 @@ struct GasRun {
   double seconds = 0;
 };
 
-/// 200 spheroids of aspect 1.2 (nominal radii 0.8-1.2 mm / 1.2^(1/3)),
-/// compressed (damped, frictionless) from a loose cloud to void ratio 1.6,
-/// then given random velocities (10 m/s) and spins (2000 rad/s) in a fixed
-/// cell: a dense gas, as the sphere gas of test_energy_conservation.
-SimulationState dense_spheroid_gas(double ct) {
-  vt::test::CloudScene sc = vt::test::spheroid_cloud(200, 1.2, 1.6, 3);
-  SimulationSettings s = vt::test::undamped(ct, 0.0);
-  s.damping = MassDamping(DampingModel::ND, 0.1);
-  Simulation prep(std::move(sc.particles), sc.cell, s);
-  prep.set_strain_rates(Vec3{-1, -1, -1} * (3e-4 / prep.time_scale().t0));
-  while (prep.particles().solid_volume() * 2.6 < prep.cell().volume()) EXPECT_EQ(prep.run(10), 10);
-  SimulationState st = prep.state();
-  vt::test::randomize_velocities(st.particles, 10.0, 2000.0, 11);
-  st.velocity_gradient = Mat3{};
-  st.settings.damping = MassDamping(DampingModel::OD, 0.0);
-  st.settings.check_interval = 1000000;
-  st.energy = EnergyBudget{};
-  return st;
-}
 
 GasRun run_spheroid_gas(std::int64_t steps, double ct) {
   Simulation sim(dense_spheroid_gas(ct));
@@ -452,207 +418,6 @@ TEST(SpheroidAcceptance, GasEnergyErrorFallsWithTheTimeStep) {
   std::printf("[ spheroid gas ] max |dE|/E over 2000 T0: c_t 0.1 %.3g, c_t 0.05 %.3g (ratio %.2f)\n",
               coarse.max_rel_error, fine.max_rel_error, coarse.max_rel_error / fine.max_rel_error);
   EXPECT_LT(fine.max_rel_error, 0.5 * coarse.max_rel_error);
-}
-
-// ---- step 5: restart and determinism ------------------------------------------------
-
-namespace {
-
-SimulationState loaded_spheroid_packing() {
-  vt::test::CloudScene sc = vt::test::spheroid_cloud(300, 1.2, 1.8, 5);
-  SimulationSettings s = vt::test::undamped(0.3, 0.5);
-  s.damping = MassDamping(DampingModel::ND, 0.1);
-  Simulation sim(std::move(sc.particles), sc.cell, s);
-  sim.set_strain_rates(Vec3{-1, -1, -1} * (3e-4 / sim.time_scale().t0));
-  // compress until the contact network holds 1.3 contacts per particle
-  std::int64_t k = 0, contacts = 0;
-  for (; k < kPackingSteps && contacts < 390; k += 100) {
-    EXPECT_EQ(sim.run(99), 99) << sim.failure();
-    EXPECT_TRUE(sim.step(true)) << sim.failure();
-    contacts = sim.measures().contacts;
-  }
-  std::printf("[ packing ] %lld steps, %lld contacts, e = %.3f, p = %.3g Pa\n", static_cast<long long>(k),
-              static_cast<long long>(contacts), sim.measures().void_ratio, sim.current_mean_stress());
-  const double r = 2e-4 / sim.time_scale().t0;
-  sim.set_strain_rates({0.5 * r, 0.5 * r, -r});
-  return sim.state();
-}
-
-void expect_same_state(const SimulationState& a, const SimulationState& b) {
-  EXPECT_TRUE(same_bits(a.particles.frac, b.particles.frac));
-  EXPECT_TRUE(same_bits(a.particles.velocity, b.particles.velocity));
-  EXPECT_TRUE(same_bits(a.particles.omega, b.particles.omega));
-  EXPECT_TRUE(same_bits(a.particles.orientation, b.particles.orientation));
-  ASSERT_EQ(a.contacts.size(), b.contacts.size());
-  for (std::size_t k = 0; k < a.contacts.size(); ++k) {
-    EXPECT_EQ(a.contacts[k].id_a, b.contacts[k].id_a);
-    EXPECT_EQ(a.contacts[k].id_b, b.contacts[k].id_b);
-    EXPECT_EQ(0, std::memcmp(&a.contacts[k].spring, &b.contacts[k].spring, sizeof(Vec3)));
-    EXPECT_EQ(a.contacts[k].cache.valid, b.contacts[k].cache.valid);
-  }
-  EXPECT_EQ(0, std::memcmp(&a.h, &b.h, sizeof(Mat3)));
-  EXPECT_EQ(a.step, b.step);
-  EXPECT_EQ(0, std::memcmp(&a.energy.boundary_work, &b.energy.boundary_work, sizeof(double)));
-  EXPECT_EQ(0, std::memcmp(&a.energy.damping, &b.energy.damping, sizeof(double)));
-  EXPECT_EQ(0, std::memcmp(&a.energy.friction, &b.energy.friction, sizeof(double)));
-}
-
-}  // namespace
-
-TEST(SpheroidRestart, ThroughASampleFileContinuesBitForBit) {
-  const SimulationState start = loaded_spheroid_packing();
-  {
-    Simulation probe(start);
-    ASSERT_TRUE(probe.step(true));
-    ASSERT_GT(probe.measures().contacts, 300) << "the test needs a loaded contact network";
-  }
-  Simulation straight(start);
-  ASSERT_EQ(straight.run(2000), 2000) << straight.failure();
-
-  Simulation first(start);
-  ASSERT_EQ(first.run(1000), 1000);
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("vt_spheroid_restart_" + std::to_string(getpid()) + ".h5")).string();
-  vt::io::write_sample(path, first.state(), vt::io::SampleMetadata{});
-  const SimulationState loaded = vt::io::read_sample(path);
-  std::filesystem::remove(path);
-  EXPECT_TRUE(same_bits(loaded.particles.orientation, first.state().particles.orientation));
-  std::size_t cached = 0;
-  for (const ContactHistory& c : loaded.contacts) cached += c.cache.valid ? 1 : 0;
-  EXPECT_GT(cached, 300u) << "warm-start normals travel with the sample";
-  Simulation second(loaded);
-  ASSERT_EQ(second.run(1000), 1000);
-  expect_same_state(straight.state(), second.state());
-  EXPECT_EQ(straight.spheroid_contact_stats().fallbacks, 0u);
-}
-
-TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
-  // spatially sorted: particles also have entries of owners stored after them
-  const SimulationState start = vt::test::spatially_sorted(loaded_spheroid_packing());
-  const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  Simulation one(start);
-  one.set_pair_loop_sum_threshold(0);  // one thread: sums in the pair loop
-  ASSERT_EQ(one.run(300), 300);
-  EXPECT_TRUE(one.summed_in_pair_loop());
-  EXPECT_TRUE(vt::test::has_owner_stored_after(one.neighbor_list())) << "the test needs all three slot groups";
-  Simulation one_gather(start);
-  one_gather.set_pair_loop_sum_threshold(SIZE_MAX);  // one thread: gather
-  ASSERT_EQ(one_gather.run(300), 300);
-  EXPECT_FALSE(one_gather.summed_in_pair_loop());
-  omp_set_num_threads(3);
-  Simulation three(start);
-  ASSERT_EQ(three.run(300), 300);
-  EXPECT_FALSE(three.summed_in_pair_loop());
-  omp_set_num_threads(before);
-  expect_same_state(one.state(), three.state());
-  expect_same_state(one_gather.state(), three.state());
-}
-
-namespace {
-
-/// Runs `steps` steps from `start` with sleeping off and on; the states must
-/// agree bit for bit. The solver counters of both runs are returned.
-void run_awake_and_asleep(const SimulationState& start, std::int64_t steps, SpheroidContactStats* awake_stats,
-                          SpheroidContactStats* asleep_stats) {
-  Simulation awake(start);
-  awake.set_sleep_apart_pairs(false);
-  Simulation sleeping(start);
-  ASSERT_EQ(awake.run(steps), steps) << awake.failure();
-  ASSERT_EQ(sleeping.run(steps), steps) << sleeping.failure();
-  expect_same_state(awake.state(), sleeping.state());
-  *awake_stats = awake.spheroid_contact_stats();
-  *asleep_stats = sleeping.spheroid_contact_stats();
-}
-
-}  // namespace
-
-TEST(SpheroidSleep, PairsFoundApartSleepWithoutChangingAnyResult) {
-  // Sheared loaded packing: letting pairs in reach that were found apart
-  // sleep (ContactForces::set_motion_clock) must skip many evaluations and
-  // change nothing, bit for bit: the motion-clock bound says they cannot
-  // have touched, and evaluating an apart pair has no effect.
-  SpheroidContactStats awake, sleeping;
-  ASSERT_NO_FATAL_FAILURE(run_awake_and_asleep(loaded_spheroid_packing(), 2000, &awake, &sleeping));
-  EXPECT_EQ(awake.asleep, 0u);
-  const double per_step = static_cast<double>(sleeping.asleep) / (2000.0 * 300.0);
-  std::printf("[ sleep ] pairs asleep per particle-step %.2f; solves %llu awake, %llu sleeping\n", per_step,
-              static_cast<unsigned long long>(awake.solves), static_cast<unsigned long long>(sleeping.solves));
-  EXPECT_GT(per_step, 0.2);  // a real share of the pairs in reach sleeps
-  EXPECT_EQ(sleeping.fallbacks, 0u);
-}
-
-TEST(SpheroidSleep, FastGasesGiveTheSameResultsAsleepOrAwake) {
-  // Dense frictionless gases: 10 m/s and 2000 rad/s (translation drives the
-  // motion clock), then spin alone at 2e4 rad/s (the a - b term does): the
-  // collisions must be found on the same step as without sleeping.
-  for (const bool spin_only : {false, true}) {
-    SimulationState start = dense_spheroid_gas(0.1);
-    if (spin_only) vt::test::randomize_velocities(start.particles, 0.0, 2e4, 13);
-    SpheroidContactStats awake, sleeping;
-    ASSERT_NO_FATAL_FAILURE(run_awake_and_asleep(start, 3000, &awake, &sleeping));
-    std::printf("[ sleep ] gas%s: pairs asleep per particle-step %.2f\n", spin_only ? " (spin only)" : "",
-                static_cast<double>(sleeping.asleep) / (3000.0 * 200.0));
-    EXPECT_GT(sleeping.asleep, 0u);
-  }
-}
-
-namespace {
-
-/// Steps until the pair scene first has a contact, awake and asleep (-1: none
-/// within max_steps) under isotropic compression at eps' = eps_rate (0: a
-/// fixed cell). Checks that pairs slept.
-std::pair<std::int64_t, std::int64_t> first_contact_awake_and_asleep(const PairScene& s, std::int64_t max_steps,
-                                                                    double eps_rate) {
-  const SimulationSettings st = vt::test::undamped(0.1, 0.0);
-  std::int64_t first[2] = {-1, -1};
-  for (const bool sleep : {false, true}) {
-    Simulation sim(s.p, s.cell, st);
-    sim.set_sleep_apart_pairs(sleep);
-    sim.set_strain_rates(Vec3{-1, -1, -1} * (eps_rate / sim.time_scale().t0));
-    for (std::int64_t k = 0; k < max_steps && first[sleep] < 0; ++k) {
-      EXPECT_TRUE(sim.step(true)) << sim.failure();
-      if (sim.measures().contacts > 0) first[sleep] = k;
-    }
-    if (sleep) {
-      EXPECT_GT(sim.spheroid_contact_stats().asleep, 0u);
-    }
-  }
-  return {first[0], first[1]};
-}
-
-}  // namespace
-
-TEST(SpheroidSleep, ASpinningTipIsCaughtOnTheStepItTouches) {
-  // Rotation alone closes the gap: i spins about z (no translation, no
-  // straining) and its tip sweeps into j's side. Only the a - b term of the
-  // motion clock runs, and the first contact must come on the same step
-  // asleep or awake.
-  const double a = 1.2e-3, b = 1e-3;
-  PairScene s;
-  const Vec3 c{0.01, 0.01, 0.01};
-  add_at(s, 0, a, b, {}, c, {}, Vec3{0, 0, 300.0});  // axis along x, turning toward y
-  add_at(s, 1, a, b, {}, c + Vec3{0, a + b - 2e-5, 0});  // apart by ~0.18 mm while i lies along x
-  const auto [awake, asleep] = first_contact_awake_and_asleep(s, 200000, 0.0);
-  std::printf("[ sleep ] spinning tip: first contact at step %lld awake, %lld asleep\n",
-              static_cast<long long>(awake), static_cast<long long>(asleep));
-  ASSERT_GT(awake, 10);  // apart at the start, touching later
-  EXPECT_EQ(awake, asleep);
-}
-
-TEST(SpheroidSleep, ACompressingCellIsCaughtOnTheStepItBringsAPairIntoTouch) {
-  // The cell's deformation alone closes the gap (particles at rest, isotropic
-  // compression): only the ||F - I|| term of the motion clock runs.
-  const double a = 1.2e-3, b = 1e-3;
-  PairScene s;
-  const Vec3 c{0.01, 0.01, 0.01};
-  add_at(s, 0, a, b, {}, c);
-  add_at(s, 1, a, b, axis_rotation({0, 0, 1}, 0.3), c + Vec3{0, 2.03e-3, 0});  // apart by ~11 um
-  const auto [awake, asleep] = first_contact_awake_and_asleep(s, 300000, 1e-6);
-  std::printf("[ sleep ] compressing cell: first contact at step %lld awake, %lld asleep\n",
-              static_cast<long long>(awake), static_cast<long long>(asleep));
-  ASSERT_GT(awake, 10);
-  EXPECT_EQ(awake, asleep);
 }
 
 TEST(SpheroidParticles, ANonUnitOrientationIsRejectedNamingTheField) {
