@@ -54,6 +54,43 @@ void LeapfrogIntegrator::set_coefficients(const Particles& p, const std::vector<
   }
 }
 
+namespace {
+
+/// One group's terms of IntegrationSums, per lane (filled by a lane loop),
+/// added particle by particle in storage order by both lane paths.
+template <std::size_t Lanes>
+struct LaneTerms {
+  double diss[Lanes], ekt[Lanes], ekr[Lanes], mom[Lanes], d2[Lanes], v2[Lanes], w2[Lanes], fin[Lanes];
+  /// Lane k's drift (eq. 131: s(t+dt) = wrap(s(t) + H^-1 v dt), returned)
+  /// and its terms: displacement since the list build, speed, spin, finiteness.
+  Vec3 drift(std::size_t k, const Vec3& s_old, const Vec3& s_build, const Vec3& v_new, const Vec3& w_new,
+             const Mat3& hinv, const Mat3& h, double dt) {
+    const Vec3 s = PeriodicCell::wrap(s_old + hinv * (dt * v_new));
+    const Vec3 ds = PeriodicCell::minimum_image(s - s_build);
+    d2[k] = norm2(h * ds);
+    v2[k] = norm2(v_new);
+    w2[k] = norm2(w_new);
+    fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
+    return s;
+  }
+  /// Lane k into acc; moment(k): its sum_inertia_moment term (from mom[k]).
+  template <bool Measure, class Moment>
+  void add_to(IntegrationSums& acc, std::size_t k, const Moment& moment) const {
+    acc.damping_dissipation += diss[k];
+    if constexpr (Measure) {
+      acc.kinetic_translational += ekt[k];
+      acc.kinetic_rotational += ekr[k];
+      acc.sum_inertia_moment += moment(k);
+    }
+    acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
+    acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
+    acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
+    if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+  }
+};
+
+}  // namespace
+
 template <bool Spheroids, bool Local>
 IntegrationSums LeapfrogIntegrator::advance_chunk(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
                                                   bool measure) const {
@@ -174,7 +211,7 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
   const double* t_in = &in.t_in->x;
   const double* s_build = &in.s_build->x;
   IntegrationSums acc;
-  double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
+  LaneTerms<kLanes> L;
   // Lane k of the group at i0 (a multiple of kLanes: coefficient block i0 / kLanes).
   const auto update = [&](std::size_t i0, std::size_t k) __attribute__((always_inline)) {
     const std::size_t i = i0 + k;
@@ -190,32 +227,20 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
     const Vec3 w_mid = 0.5 * (w_old + w_new);
     const double m = c.mass[k];
     const double inert = c.inertia[k];
-    diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + inert * norm2(w_mid));
+    L.diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + inert * norm2(w_mid));
     if constexpr (Measure) {
-      ekt[k] = 0.5 * m * norm2(v_mid);
-      ekr[k] = 0.5 * inert * norm2(w_mid);
-      mom[k] = norm2(w_new - w_old);  // its root in add(): std::sqrt would branch (errno)
+      L.ekt[k] = 0.5 * m * norm2(v_mid);
+      L.ekr[k] = 0.5 * inert * norm2(w_mid);
+      L.mom[k] = norm2(w_new - w_old);  // its root in add(): std::sqrt would branch (errno)
     }
-    const Vec3 s = PeriodicCell::wrap(Vec3{frac[3 * i], frac[3 * i + 1], frac[3 * i + 2]} + hinv * (dt * v_new));
+    const Vec3 s = L.drift(k, Vec3{frac[3 * i], frac[3 * i + 1], frac[3 * i + 2]},
+                           Vec3{s_build[3 * i], s_build[3 * i + 1], s_build[3 * i + 2]}, v_new, w_new, hinv, h, dt);
     frac[3 * i] = s.x; frac[3 * i + 1] = s.y; frac[3 * i + 2] = s.z;
-    const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{s_build[3 * i], s_build[3 * i + 1], s_build[3 * i + 2]});
-    d2[k] = norm2(h * ds);
-    v2[k] = norm2(v_new);
-    w2[k] = norm2(w_new);
-    fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
   };
   // Lane k's terms into the sums, in storage order.
   const auto add = [&](std::size_t i0, std::size_t k) {
-    acc.damping_dissipation += diss[k];
-    if constexpr (Measure) {
-      acc.kinetic_translational += ekt[k];
-      acc.kinetic_rotational += ekr[k];
-      acc.sum_inertia_moment += coef_[i0 / kLanes].inertia[k] / dt * std::sqrt(mom[k]);
-    }
-    acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
-    acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
-    acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
-    if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+    L.template add_to<Measure>(acc, k,
+                               [&](std::size_t j) { return coef_[i0 / kLanes].inertia[j] / dt * std::sqrt(L.mom[j]); });
   };
   static_assert(kChunkSize % kLanes == 0, "chunks start at a lane block");
   std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
@@ -238,9 +263,8 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
 /// step angles' cos and sin by their polynomials. A lane outside what that
 /// covers (a sphere of a mixed sample, a body with I2 != I3, L = 0, a half
 /// step angle above 1/16 rad) is redone by advance_chunk<true, false> for
-/// its particle; then every
-/// lane is stored and its terms summed one particle at a time in storage
-/// order. Which particles take the lanes depends only on their own state,
+/// its particle; then every lane is stored and its terms summed one
+/// particle at a time in storage order. Which particles take the lanes depends only on their own state,
 /// so results do not depend on the thread count; they agree with
 /// advance_chunk's to round-off.
 template <bool Measure>
@@ -260,7 +284,7 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
   IntegrationSums acc;
   // per lane: the new state, the terms of the sums and whether the lane holds
   double nv[3][kLanes], nw[3][kLanes], nq[4][kLanes], ns[3][kLanes];
-  double diss[kLanes], ekt[kLanes], ekr[kLanes], mom[kLanes], d2[kLanes], v2[kLanes], w2[kLanes], fin[kLanes];
+  LaneTerms<kLanes> L;
   double spheroid[kLanes], ok[kLanes];
   // per lane: the old state, packed field by field (the vectoriser does not
   // take the strided particle arrays in this loop)
@@ -289,49 +313,33 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
     const Vec3 w_old{pw[0][k], pw[1][k], pw[2][k]};
     const Vec3 f{pf[0][k], pf[1][k], pf[2][k]}, t{pt[0][k], pt[1][k], pt[2][k]};
     const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
-    // advance_symmetric_rotation, L = 0 and large angles left to the scalar step
-    const double i1 = pi1[k], i2 = pi2[k];
+    // advance_symmetric_rotation's parts, L = 0 and large angles left to the scalar step
     const Quaternion q{pq[0][k], pq[1][k], pq[2][k], pq[3][k]};
-    const double inv_diff = rk.inv_i1[k] - rk.inv_i2[k];
-    const Vec3 e_old = body_x_axis(q);
-    const Vec3 l_old = i2 * w_old + ((i1 - i2) * dot(e_old, w_old)) * e_old;
-    const Vec3 l = c.decay[k] * l_old + rk.kick[k] * t;
-    const double l2 = norm2(l);
-    const double half_dt_inv_i2 = 0.5 * rk.dt_inv_i2[k];
-    const double xp2 = l2 * (half_dt_inv_i2 * half_dt_inv_i2);  // (precession / 2)^2
-    const double cp = cos_series(xp2), sinc = 1.0 + sinc_series_minus_1(xp2);
-    const double xs = 0.5 * dot(l, e_old) * dt * inv_diff;   // spin / 2
-    const double xs2 = xs * xs;
-    const double cs = cos_series(xs2), ss = xs + xs * sinc_series_minus_1(xs2);
-    const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
-    const Vec3 u = (sinc * half_dt_inv_i2) * l;
-    const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
-    const double fq = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-    const Quaternion q_new{fq * r.w, fq * r.x, fq * r.y, fq * r.z};
-    const Vec3 e_new = body_x_axis(q_new);
-    const Vec3 w_new = rk.inv_i2[k] * l + (inv_diff * dot(e_new, l)) * e_new;
-    const Vec3 l_mid = 0.5 * (l_old + l);
-    const double el = dot(e_old, l_mid);
-    const double two_e_rot = rk.inv_i2[k] * norm2(l_mid) + inv_diff * el * el;
-    ok[k] = spheroid[k] * (l2 > 0.0 ? 1.0 : 0.0) * (xp2 <= kSmallAngle2 ? 1.0 : 0.0) * (xs2 <= kSmallAngle2 ? 1.0 : 0.0);
+    const SymmetricStepConstants sk{c.decay[k], rk.kick[k], rk.inv_i1[k], rk.inv_i2[k], rk.dt_inv_i2[k], dt};
+    const SymmetricKick kk = symmetric_kick(q, w_old, t, pi1[k], pi2[k], sk);
+    double cp, sinc, cs, ss;
+    cos_sinc_of_square_small(kk.precession2, cp, sinc);
+    cos_sin_small(kk.spin, cs, ss);
+    const Quaternion q_new = symmetric_drift(q, kk, cp, sinc, cs, ss);
+    Vec3 w_new;
+    double two_e_rot;
+    symmetric_finish(q_new, kk, sk, w_new, two_e_rot);
+    ok[k] = spheroid[k] * (kk.l2 > 0.0 ? 1.0 : 0.0) * (kk.precession2 <= kSmallAngle2 ? 1.0 : 0.0) *
+            (kk.spin * kk.spin <= kSmallAngle2 ? 1.0 : 0.0);
     nv[0][k] = v_new.x; nv[1][k] = v_new.y; nv[2][k] = v_new.z;
     nw[0][k] = w_new.x; nw[1][k] = w_new.y; nw[2][k] = w_new.z;
     nq[0][k] = q_new.w; nq[1][k] = q_new.x; nq[2][k] = q_new.y; nq[3][k] = q_new.z;
     const Vec3 v_mid = 0.5 * (v_old + v_new);
     const double m = c.mass[k];
-    diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + two_e_rot);
+    L.diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + two_e_rot);
     if constexpr (Measure) {
-      ekt[k] = 0.5 * m * norm2(v_mid);
-      ekr[k] = 0.5 * two_e_rot;
-      mom[k] = norm2(l - l_old);  // its root in finish()
+      L.ekt[k] = 0.5 * m * norm2(v_mid);
+      L.ekr[k] = 0.5 * two_e_rot;
+      L.mom[k] = norm2(kk.l_new - kk.l_old);  // its root in finish()
     }
-    const Vec3 s = PeriodicCell::wrap(Vec3{ps[0][k], ps[1][k], ps[2][k]} + hinv * (dt * v_new));
+    const Vec3 s = L.drift(k, Vec3{ps[0][k], ps[1][k], ps[2][k]}, Vec3{pb[0][k], pb[1][k], pb[2][k]}, v_new, w_new,
+                           hinv, h, dt);
     ns[0][k] = s.x; ns[1][k] = s.y; ns[2][k] = s.z;
-    const Vec3 ds = PeriodicCell::minimum_image(s - Vec3{pb[0][k], pb[1][k], pb[2][k]});
-    d2[k] = norm2(h * ds);
-    v2[k] = norm2(v_new);
-    w2[k] = norm2(w_new);
-    fin[k] = v_new.x + v_new.y + v_new.z + w_new.x + w_new.y + w_new.z;
   };
   // Lane k stored and summed (or its particle stepped by advance_chunk).
   const auto finish = [&](std::size_t i0, std::size_t k) {
@@ -344,16 +352,7 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
     in.omg[i] = {nw[0][k], nw[1][k], nw[2][k]};
     in.orient[i] = {nq[0][k], nq[1][k], nq[2][k], nq[3][k]};
     in.frac[i] = {ns[0][k], ns[1][k], ns[2][k]};
-    acc.damping_dissipation += diss[k];
-    if constexpr (Measure) {
-      acc.kinetic_translational += ekt[k];
-      acc.kinetic_rotational += ekr[k];
-      acc.sum_inertia_moment += std::sqrt(mom[k]) / dt;
-    }
-    acc.max_displacement2 = std::max(acc.max_displacement2, d2[k]);
-    acc.max_speed2 = std::max(acc.max_speed2, v2[k]);
-    acc.max_spin2 = std::max(acc.max_spin2, w2[k]);
-    if (!std::isfinite(d2[k]) || !std::isfinite(fin[k])) acc.finite = false;
+    L.template add_to<Measure>(acc, k, [&](std::size_t j) { return std::sqrt(L.mom[j]) / dt; });
   };
   std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
   for (; i0 + kLanes <= i_end; i0 += kLanes) {

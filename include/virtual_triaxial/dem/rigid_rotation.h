@@ -82,11 +82,15 @@ inline double sinc_series_minus_1(double x2) {  // sin(x)/x - 1: coefficients (-
 /// c = cos x, s = sin x [x in rad]. For |x| <= 1/16 (the angles of a DEM
 /// step are ~1e-4) the Taylor polynomials above, which cost no library call;
 /// std::cos and std::sin otherwise.
-inline void cos_sin(double x, double& c, double& s) {
+/// cos_sin by the polynomials alone (exact to rounding for x^2 <= kSmallAngle2).
+inline void cos_sin_small(double x, double& c, double& s) {
   const double x2 = x * x;
-  if (x2 <= kSmallAngle2) {
-    s = x + x * sinc_series_minus_1(x2);
-    c = cos_series(x2);
+  s = x + x * sinc_series_minus_1(x2);
+  c = cos_series(x2);
+}
+inline void cos_sin(double x, double& c, double& s) {
+  if (x * x <= kSmallAngle2) {
+    cos_sin_small(x, c, s);
   } else {
     c = std::cos(x);
     s = std::sin(x);
@@ -97,10 +101,14 @@ inline void cos_sin(double x, double& c, double& s) {
 /// root when x2 <= 1/256 (the polynomials above); std::cos, std::sin of
 /// sqrt(x2) otherwise. For a rotation by |v| about v^: the quaternion
 /// (cos, (sin/|v|) v) needs no |v|.
+/// cos_sinc_of_square by the polynomials alone (exact to rounding for x2 <= kSmallAngle2).
+inline void cos_sinc_of_square_small(double x2, double& c, double& sc) {
+  sc = 1.0 + sinc_series_minus_1(x2);
+  c = cos_series(x2);
+}
 inline void cos_sinc_of_square(double x2, double& c, double& sc) {
   if (x2 <= kSmallAngle2) {
-    sc = 1.0 + sinc_series_minus_1(x2);
-    c = cos_series(x2);
+    cos_sinc_of_square_small(x2, c, sc);
   } else {
     const double x = std::sqrt(x2);
     c = std::cos(x);
@@ -177,6 +185,60 @@ struct SymmetricStepConstants {
   }
 };
 
+/// The parts of advance_symmetric_rotation (below), also run 8 bodies at a
+/// time by the integrator's spheroid lanes (leapfrog_integrator.cpp), which
+/// take the step angles' cos and sin by the polynomials alone.
+/// The kick: L(t-dt/2) = I2 w + (I1 - I2)(e.w) e with e = q (1,0,0), then
+/// L(t+dt/2) = decay L(t-dt/2) + kick M(t) (eq. 2 on L, damping eq. 29),
+/// and the drift's half angles: precession |L| dt/(2 I2), spin about the
+/// body axis (e.L)(1/I1 - 1/I2) dt/2.
+struct SymmetricKick {
+  Vec3 e_old;             ///< symmetry axis at t
+  Vec3 l_old, l_new;      ///< L(t - dt/2), L(t + dt/2) [kg m^2/s]
+  double inv_diff;        ///< 1/I1 - 1/I2 [1/(kg m^2)]
+  double l2;              ///< |L(t + dt/2)|^2
+  double half_dt_inv_i2;  ///< dt/(2 I2) [s/(kg m^2)]
+  double precession2;     ///< (precession / 2)^2 [rad^2]
+  double spin;            ///< spin / 2 [rad]
+};
+inline SymmetricKick symmetric_kick(const Quaternion& q, const Vec3& w, const Vec3& torque, double i1, double i2,
+                                    const SymmetricStepConstants& k) {
+  SymmetricKick out;
+  out.inv_diff = k.inv_i1 - k.inv_i2;
+  out.e_old = body_x_axis(q);
+  out.l_old = i2 * w + ((i1 - i2) * dot(out.e_old, w)) * out.e_old;
+  out.l_new = k.decay * out.l_old + k.kick * torque;
+  out.l2 = norm2(out.l_new);
+  out.half_dt_inv_i2 = 0.5 * k.dt_inv_i2;
+  out.precession2 = out.l2 * (out.half_dt_inv_i2 * out.half_dt_inv_i2);
+  out.spin = 0.5 * dot(out.l_new, out.e_old) * k.dt * out.inv_diff;
+  return out;
+}
+/// The exact torque-free drift (as free_symmetric, with e known): Q(L^,
+/// precession) q Q(x, spin) from the precession's cos cp and sin(x)/x sinc
+/// (its vector part (sin x / |L|) L = sinc dt/(2 I2) L needs no |L|) and the
+/// spin's cos cs and sin ss, renormalised by one Newton step for 1/|q|
+/// (exact to O((|r|^2 - 1)^2)) instead of a square root and a division.
+inline Quaternion symmetric_drift(const Quaternion& q, const SymmetricKick& kk, double cp, double sinc, double cs,
+                                  double ss) {
+  // the spin factor (cs, ss, 0, 0) written out
+  const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
+  const Vec3 u = (sinc * kk.half_dt_inv_i2) * kk.l_new;
+  const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
+  const double f = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+  return {f * r.w, f * r.x, f * r.y, f * r.z};
+}
+/// After the drift to q_new: w(t+dt/2) = L / I2 + (1/I1 - 1/I2)(e.L) e and
+/// 2 E_rot = L_mid . I_world(q(t))^-1 L_mid, L_mid = (L_old + L_new)/2.
+inline void symmetric_finish(const Quaternion& q_new, const SymmetricKick& kk, const SymmetricStepConstants& k,
+                             Vec3& w, double& two_e_rot) {
+  const Vec3 e_new = body_x_axis(q_new);
+  w = k.inv_i2 * kk.l_new + (kk.inv_diff * dot(e_new, kk.l_new)) * e_new;
+  const Vec3 l_mid = 0.5 * (kk.l_old + kk.l_new);
+  const double el = dot(kk.e_old, l_mid);
+  two_e_rot = k.inv_i2 * norm2(l_mid) + kk.inv_diff * el * el;
+}
+
 /// advance_rotation_omega for a symmetric body (inertia_body.y == .z, the
 /// symmetry axis body x: spheroids), written with the world symmetry axis
 /// e = q (1,0,0) instead of frame rotations (the same scheme; results differ
@@ -189,37 +251,17 @@ struct SymmetricStepConstants {
 /// integrator calls it for every spheroid and step.
 inline SymmetricRotationStep advance_symmetric_rotation(Quaternion& q, Vec3& w, const Vec3& torque,
                                                         const Vec3& inertia, const SymmetricStepConstants& k) {
-  const double i1 = inertia.x, i2 = inertia.y;
-  const double inv_diff = k.inv_i1 - k.inv_i2;  // 1/I1 - 1/I2 [1/(kg m^2)]
-  const Vec3 e_old = body_x_axis(q);
-  SymmetricRotationStep out;
-  out.l_old = i2 * w + ((i1 - i2) * dot(e_old, w)) * e_old;
-  const Vec3 l = k.decay * out.l_old + k.kick * torque;
-  out.l_new = l;
-  // Exact torque-free drift (as free_symmetric, with e known).
-  const double l2 = norm2(l);
-  if (l2 > 0.0) {
-    // precession |L| dt / I2 about L^: half angle x = |L| dt / (2 I2), and
-    // the quaternion's vector part (sin x / |L|) L = (sin(x)/x) (dt / 2 I2) L
-    // needs no |L| (cos_sinc_of_square: no square root, no division)
-    const double half_dt_inv_i2 = 0.5 * k.dt_inv_i2;
+  const SymmetricKick kk = symmetric_kick(q, w, torque, inertia.x, inertia.y, k);
+  if (kk.l2 > 0.0) {
     double cp, sinc, cs, ss;
-    cos_sinc_of_square(l2 * (half_dt_inv_i2 * half_dt_inv_i2), cp, sinc);
-    cos_sin(0.5 * dot(l, e_old) * k.dt * inv_diff, cs, ss);  // spin about the body axis
-    // Q(L^, precession) q Q(x, spin), the spin factor (cs, ss, 0, 0) written out
-    const Quaternion qs{q.w * cs - q.x * ss, q.w * ss + q.x * cs, q.y * cs + q.z * ss, q.z * cs - q.y * ss};
-    const Vec3 u = (sinc * half_dt_inv_i2) * l;
-    const Quaternion r = Quaternion{cp, u.x, u.y, u.z} * qs;
-    // |r| = 1 to rounding: one Newton step for 1/|r| (exact to O((|r|^2 - 1)^2))
-    // instead of a square root and a division.
-    const double f = 1.5 - 0.5 * (r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-    q = {f * r.w, f * r.x, f * r.y, f * r.z};
+    cos_sinc_of_square(kk.precession2, cp, sinc);
+    cos_sin(kk.spin, cs, ss);
+    q = symmetric_drift(q, kk, cp, sinc, cs, ss);
   }
-  const Vec3 e_new = body_x_axis(q);
-  w = k.inv_i2 * l + (inv_diff * dot(e_new, l)) * e_new;
-  const Vec3 l_mid = 0.5 * (out.l_old + l);
-  const double el = dot(e_old, l_mid);
-  out.two_e_rot = k.inv_i2 * norm2(l_mid) + inv_diff * el * el;
+  SymmetricRotationStep out;
+  out.l_old = kk.l_old;
+  out.l_new = kk.l_new;
+  symmetric_finish(q, kk, k, w, out.two_e_rot);
   return out;
 }
 
