@@ -30,8 +30,12 @@ namespace vt::ros {
 namespace {
 
 /// Publisher queue per subscriber: deep enough that a recorder or test node
-/// never loses a tick of a fast lockstep run (the messages are small).
-constexpr std::uint32_t kQueue = 1000;
+/// never loses a tick of a fast lockstep run (the messages are small, about
+/// 100-200 B: 20 000 of them are a few MB at most). 1000 was not: in a
+/// clean-build test run at nice 10 a test node that was not scheduled for a
+/// moment lost one /stress message of a 1000-tick run (tests/rostest
+/// protocol_rig, "tick ... of the run not received").
+constexpr std::uint32_t kQueue = 20000;
 
 constexpr const char* kUnits =
     "SI (m, kg, s, Pa, N, J, rad); stress, strain and strain rates compression positive; "
