@@ -19,23 +19,7 @@ using namespace vt::dem;
 using vt::test::expect_same_state;
 using vt::test::same_bits;
 
-namespace {
-
-
-SimulationState loaded_packing(int particles = 400) {
-  vt::test::CloudScene sc = vt::test::polydisperse_cloud(particles, 1.8, 5);
-  SimulationSettings s = vt::test::undamped(0.3, 0.5);
-  s.damping = MassDamping(DampingModel::ND, 0.02);
-  Simulation sim(std::move(sc.particles), sc.cell, s);
-  sim.set_strain_rates(Vec3{-1, -1, -1} * (4e-4 / sim.time_scale().t0));
-  EXPECT_EQ(sim.run(1200), 1200) << sim.failure();
-  // then shear at constant volume so springs keep changing
-  const double r = 2e-4 / sim.time_scale().t0;
-  sim.set_strain_rates({0.5 * r, 0.5 * r, -r});
-  return sim.state();
-}
-
-}  // namespace
+using vt::test::loaded_packing;
 
 
 TEST(Restart, InMemoryStateContinuesBitForBit) {

@@ -1,5 +1,7 @@
 #include "support/scenes.h"
 
+#include <gtest/gtest.h>
+
 #include "virtual_triaxial/dem/cloud_generator.h"
 #include "virtual_triaxial/dem/random_stream.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
@@ -84,6 +86,19 @@ bool has_owner_stored_after(const dem::NeighborList& list) {
     }
   }
   return false;
+}
+
+dem::SimulationState loaded_packing(int particles) {
+  CloudScene sc = polydisperse_cloud(particles, 1.8, 5);
+  dem::SimulationSettings s = undamped(0.3, 0.5);
+  s.damping = dem::MassDamping(dem::DampingModel::ND, 0.02);
+  dem::Simulation sim(std::move(sc.particles), sc.cell, s);
+  sim.set_strain_rates(dem::Vec3{-1, -1, -1} * (4e-4 / sim.time_scale().t0));
+  EXPECT_EQ(sim.run(1200), 1200) << sim.failure();
+  // then shear at constant volume so springs keep changing
+  const double r = 2e-4 / sim.time_scale().t0;
+  sim.set_strain_rates({0.5 * r, 0.5 * r, -r});
+  return sim.state();
 }
 
 }  // namespace vt::test

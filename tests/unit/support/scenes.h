@@ -30,6 +30,11 @@ CloudScene polydisperse_cloud(std::int64_t n, double void_ratio, std::uint64_t s
 CloudScene spheroid_cloud(std::int64_t n, double aspect, double void_ratio, std::uint64_t seed,
                           double density = 2650.0);
 
+/// A polydisperse_cloud(particles, 1.8, 5) compressed isotropically for
+/// 1200 steps (c_t 0.3, ND damping 0.02) into a loaded contact network, left
+/// shearing at constant volume so that springs keep changing.
+dem::SimulationState loaded_packing(int particles = 400);
+
 /// Give every particle a random velocity of size ~speed and random spin.
 void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed);
 
