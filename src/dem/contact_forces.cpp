@@ -159,8 +159,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   };
   SplitSums* split = &split_;
   ThreadRuns* runs = &runs_;
-  split_used_ = false;  // set below when a team of several takes the split sums
+  // The plan is checked before the team forms, so that every thread takes
+  // the same path (a team smaller than planned remakes it).
+  const int planned_team = omp_get_max_threads();
+  const std::int64_t stamp = ++steps_;
+  const bool plan_current = runs_.current(nchunks, n, planned_team) &&
+                            (spheroids || split_.current(list, n, runs_, stamp));
+  split_used_ = false;  // set by a team of several on the sphere path
   bool* split_used = &split_used_;
+  const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
   // One parallel region: pair evaluation, barrier, sums (on one thread the
   // pair loop sums per particle itself, in the same order: no gather; on
@@ -170,13 +177,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   {
     Scratch& mine = scratch[omp_get_thread_num()];
     const int team = omp_get_num_threads();
-    const auto evaluate_chunk = [&](std::int32_t c) {
+    const auto evaluate_chunk_with = [&](const PairInputs& inputs, std::int32_t c) {
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
-      sums[c] = kernel(in, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
+      sums[c] = kernel(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
                        mine.dist2.data());
     };
+    const auto evaluate_chunk = [&](std::int32_t c) { evaluate_chunk_with(in, c); };
     if (team == 1) {
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums (scatter),
@@ -189,65 +197,59 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
       // and the sums, so it mostly reads the particles it wrote itself.
-      // Spheres sum in the thread's own buffers (split_sums.h); spheroids
-      // gather every particle (their pair loop is dearer per contact, and
-      // adding there cost more than the gather saved: 1.5 % at 12 000).
+      // Spheres: ghosts, no gather (split_sums.h); spheroids gather every
+      // particle (their pair loop is dearer per contact).
+      if (!plan_current || team != planned_team) {
 #pragma omp single
-      {
-        runs->prepare(nchunks, n, team);
-        if (!spheroids) split->prepare(list, n, *runs);
-        *split_used = !spheroids;
+        {
+          runs->prepare(nchunks, n, team);
+          if (!spheroids) split->prepare(list, n, *runs, stamp);
+        }
+        // (implicit barrier: the plan is ready)
       }
-      // (implicit barrier: the plan is ready)
       const int t = omp_get_thread_num();
       const auto [c0, c1] = runs->run(t);
       double start = omp_get_wtime();
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
-      double busy = 0.0;
       if (spheroids) {
         refresh_bodies(i0, i1);
-        busy = omp_get_wtime() - start;
+        double busy = omp_get_wtime() - start;
 #pragma omp barrier
         start = omp_get_wtime();
-      }
-      Vec3* fb = spheroids ? nullptr : split->force(t);
-      Vec3* tb = spheroids ? nullptr : split->torque(t);
-      PairInputs own = in;
-      if (!spheroids) {
-        std::fill(fb + i0, fb + i1, Vec3{});
-        std::fill(tb + i0, tb + i1, Vec3{});
-        for (const std::int32_t j : split->foreign(t)) {
-          fb[j] = Vec3{};
-          tb[j] = Vec3{};
-        }
-        own.force_out = fb;
-        own.torque_out = tb;
-      }
-      for (std::int32_t c = c0; c < c1; ++c) {
-        const std::int32_t b = c * kChunkSize, e = std::min<std::int32_t>(ni, b + kChunkSize);
-        mine.reserve(static_cast<std::size_t>(in.off[e] - in.off[b]));
-        sums[c] = kernel(own, b, e, mine.entry.data(), mine.separated.data(), mine.branch.data(), mine.dist2.data());
-      }
-      busy += omp_get_wtime() - start;
+        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(c);
+        busy += omp_get_wtime() - start;
 #pragma omp barrier
-      const double summing = omp_get_wtime();
-      // every pair state is final: the sole particles' sums are the buffers',
-      // the others gather (below, same bits)
-      if (spheroids) {
+        const double summing = omp_get_wtime();
         for (std::int32_t i = i0; i < i1; ++i) gather_spheroid(i);
+        runs->record(t, busy + (omp_get_wtime() - summing));
       } else {
-        for (std::int32_t i = i0; i < i1; ++i) {
-          if (split->sole(i)) {
-            fout[i] = fb[i];
-            tout[i] = tb[i];
-          } else {
-            gather_sphere(i);
-          }
-        }
+        // home: particles [i0, i1); ghosts before, own chunks, ghosts after
+        if (t == 0) *split_used = true;
+        std::fill(fout + i0, fout + i1, Vec3{});
+        std::fill(tout + i0, tout + i1, Vec3{});
+        PairInputs own = in;
+        own.force_out = fout;
+        own.torque_out = tout;
+        own.own_begin = i0;
+        own.own_span = static_cast<std::uint32_t>(i1 - i0);
+        PairInputs ghost = own;
+        ghost.spring = const_cast<Vec3*>(split->ghost_springs());  // read only (evaluate_ghosts)
+        const auto ghosts = [&](const std::vector<std::int32_t>& entries) {
+          const auto count = static_cast<std::int32_t>(entries.size());
+          mine.reserve(entries.size());
+          ghost_kernel(ghost, entries.data(), count, mine.entry.data(), mine.branch.data(), mine.dist2.data());
+        };
+        ghosts(split->ghosts_before(t));
+        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(own, c);
+        ghosts(split->ghosts_after(t));
+        // the springs of this run's boundary entries, for the next step's ghosts
+        Vec3* next = split->next_ghost_springs();
+        for (const std::int32_t e : split->boundary(t)) next[e] = in.spring[e];
+        runs->record(t, omp_get_wtime() - start);
       }
-      runs->record(t, busy + (omp_get_wtime() - summing));
     }
   }
+  if (split_used_) split_.finish_step(stamp);
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);

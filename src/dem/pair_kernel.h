@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <climits>
 
 #include "virtual_triaxial/dem/contact_forces.h"
 
@@ -64,6 +65,11 @@ struct PairInputs {
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
   const double* mass;
   double viscous_a;
+  // Sphere pair loop: partners outside particles [own_begin, own_begin +
+  // own_span) take no sum here (on several threads their own thread adds
+  // the pair as a ghost, split_sums.h); the default is every particle.
+  std::int32_t own_begin = 0;
+  std::uint32_t own_span = UINT32_MAX;
 };
 
 /// The viscous contact dashpots (viscous_contact_damping.h) of a pair of
@@ -152,6 +158,15 @@ using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t
 /// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy and
 /// force norms, `viscous` the contact dashpots.
 PairKernel sphere_pair_kernel(bool measure, bool viscous);
+
+/// A ghost kernel (spheres, split_sums.h): the pairs of the listed entries
+/// (ascending, owned by particles of other threads) evaluated from the same
+/// inputs as their owner's pair loop (in.spring: the springs at the start
+/// of the step), added in list order to the partner's sums only; nothing
+/// is stored in the list and nothing enters the chunk sums. The last three
+/// arguments are per-thread scratch (ContactForces::Scratch).
+using GhostKernel = void (*)(const PairInputs&, const std::int32_t*, std::int32_t, std::int32_t*, Vec3*, double*);
+GhostKernel sphere_ghost_kernel(bool viscous);
 /// Kernel for particles that include spheroids (spheroid_pairs.cpp).
 PairKernel spheroid_pair_kernel(bool measure, bool viscous);
 

@@ -66,6 +66,30 @@ inline void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzM
   }
 }
 
+/// Whether the pair of entry e touches: branch d = x_j - x_i (minimum
+/// image) and |d|^2 (both kernels below, so a ghost sees its owner's bits).
+inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Vec3& d, double& dist2) {
+  const std::int32_t i = in.owner[e];
+  const std::int32_t j = in.partner[e];
+  d = h * PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
+  dist2 = norm2(d);
+  const double rsum = in.rad[i] + in.rad[j];
+  return dist2 < rsum * rsum;
+}
+
+/// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2), its
+/// radii and motion (both kernels below).
+template <bool Viscous>
+inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2) {
+  const std::int32_t i = in.owner[e];
+  const std::int32_t j = in.partner[e];
+  L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
+  L.dist2[k] = dist2;
+  L.ri[k] = in.rad[i];
+  L.rj[k] = in.rad[j];
+  set_motion<Viscous>(L, k, in, i, j, e);
+}
+
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
 /// [off[i_begin], off[i_end]) in list order. Pass 1 tests every entry for
 /// contact without a data-dependent branch (the test is a coin flip for the
@@ -94,13 +118,9 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       __builtin_prefetch(in.vel + jp);
       __builtin_prefetch(in.omg + jp);
     }
-    const std::int32_t i = in.owner[e];
-    const std::int32_t j = in.partner[e];
-    const Vec3 ds = PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
-    const Vec3 d = h * ds;
-    const double dist2 = norm2(d);
-    const double rsum = in.rad[i] + in.rad[j];
-    const bool touching = dist2 < rsum * rsum;
+    Vec3 d;
+    double dist2;
+    const bool touching = contact_test(in, h, e, d, dist2);
     c_entry[nc] = e;
     store(c_branch[nc], d);
     c_dist2[nc] = dist2;
@@ -119,6 +139,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   // Pass 2: the contacts, kLanes at a time (SphereLanes), stored and summed
   // in list order.
   ChunkSums sums;
+  Vec3 sink_f, sink_t;  // the sums of partners that are not home
   SphereLanes L;
   std::int32_t lane_e[kLanes], lane_i[kLanes], lane_j[kLanes];
   for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
@@ -136,17 +157,10 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         }
       }
       const std::int32_t e = c_entry[c];
-      const std::int32_t i = in.owner[e];
-      const std::int32_t j = in.partner[e];
       lane_e[k] = e;
-      lane_i[k] = i;
-      lane_j[k] = j;
-      const Vec3 d = c_branch[c];
-      L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
-      L.dist2[k] = c_dist2[c];
-      L.ri[k] = in.rad[i];
-      L.rj[k] = in.rad[j];
-      set_motion<Viscous>(L, k, in, i, j, e);
+      lane_i[k] = in.owner[e];
+      lane_j[k] = in.partner[e];
+      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     for (int k = 0; k < lanes; ++k) {
@@ -162,8 +176,12 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       if (in.force_out) {  // the gather's arithmetic, in the gather's order
         in.force_out[i] -= f;
         in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
-        in.force_out[j] += f;
-        in.torque_out[j] = fused_multiply_add(L.lj[k], m, in.torque_out[j]);
+        // a partner of another thread: added there as a ghost (split_sums.h)
+        const bool home = static_cast<std::uint32_t>(j - in.own_begin) < in.own_span;
+        Vec3& fj = home ? in.force_out[j] : sink_f;
+        Vec3& tj = home ? in.torque_out[j] : sink_t;
+        fj += f;
+        tj = fused_multiply_add(L.lj[k], m, tj);
       }
       in.active[e] = hov != 0.0 ? 1 : 0;
       sums.add<Measure, Viscous>(L, k, f, dt);
@@ -172,7 +190,49 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   return sums.finish(nc);
 }
 
+/// The ghost kernel (pair_kernel.h): entries[0, count), ascending. The
+/// same contact test and lanes as evaluate_pairs, so each pair's force and
+/// moment are the owner's bit for bit (a lane's result depends only on its
+/// own inputs).
+template <bool Viscous>
+void evaluate_ghosts(const PairInputs& in, const std::int32_t* entries, std::int32_t count, std::int32_t* c_entry,
+                     Vec3* c_branch, double* c_dist2) {
+  const Mat3 h = in.h, lgrad = in.lgrad;
+  const HertzMindlin law = in.law;
+  const double dt = in.dt;
+  std::int32_t nc = 0;
+  for (std::int32_t k = 0; k < count; ++k) {
+    const std::int32_t e = entries[k];
+    Vec3 d;
+    double dist2;
+    const bool touching = contact_test(in, h, e, d, dist2);
+    c_entry[nc] = e;
+    store(c_branch[nc], d);
+    c_dist2[nc] = dist2;
+    nc += touching ? 1 : 0;
+  }
+  SphereLanes L;
+  std::int32_t lane_j[kLanes];
+  for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
+    const int lanes = static_cast<int>(std::min<std::int32_t>(kLanes, nc - c0));
+    for (int k = 0; k < kLanes; ++k) {
+      const std::int32_t c = c0 + (k < lanes ? k : 0);
+      const std::int32_t e = c_entry[c];
+      lane_j[k] = in.partner[e];
+      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
+    }
+    sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
+    for (int k = 0; k < lanes; ++k) {
+      const std::int32_t j = lane_j[k];
+      in.force_out[j] += Vec3{L.fx[k], L.fy[k], L.fz[k]};
+      in.torque_out[j] = fused_multiply_add(L.lj[k], Vec3{L.mx[k], L.my[k], L.mz[k]}, in.torque_out[j]);
+    }
+  }
+}
+
 }  // namespace
+
+GhostKernel sphere_ghost_kernel(bool viscous) { return viscous ? &evaluate_ghosts<true> : &evaluate_ghosts<false>; }
 
 PairKernel sphere_pair_kernel(bool measure, bool viscous) {
   if (viscous) return measure ? &evaluate_pairs<true, true> : &evaluate_pairs<false, true>;

@@ -8,7 +8,7 @@
 namespace vt::dem {
 
 void ThreadRuns::prepare(std::int32_t nchunks, std::size_t n, int threads) {
-  if (nchunks == nchunks_ && n == n_ && threads == threads_) return;
+  if (current(nchunks, n, threads)) return;
   nchunks_ = nchunks;
   n_ = n;
   threads_ = threads;

@@ -1,20 +1,23 @@
 // SplitSums (dem/split_sums.h): the plan by which several threads make the
-// per-particle sums of the sphere pair loop. Its invariants, checked on the
-// neighbour list of a loaded, spatially sorted packing of several chunks
-// (the sums themselves: Restart.PairLoopSumsEqualTheGatherAcrossChunks,
-// bit for bit on one, two and three threads):
-//   - a particle is sole (takes its thread's buffer sum) exactly when every
-//     gather slot of it is owned in its own thread's run; the others gather;
-//   - foreign(t) is the set of partners outside run t of the pairs owned in
-//     run t (their buffer slots are zeroed by thread t), sorted, once each;
-//   - the plan follows the runs.
+// per-particle sums of the sphere pair loop without a gather. Its
+// invariants, checked on the neighbour list of a loaded, spatially sorted
+// packing of several chunks (the sums themselves:
+// Restart.PairLoopSumsEqualTheGatherAcrossChunks, bit for bit on one, two
+// and three threads):
+//   - ghosts_before(t) / ghosts_after(t) are exactly the entries owned in a
+//     lower / higher run whose partner is in run t, ascending, so thread t
+//     adds every term of a home particle in list order;
+//   - boundary(t) is exactly the entries owned in run t with a partner
+//     outside it, and every ghost is some run's boundary entry;
+//   - the ghost springs are the list's springs when the plan is made, and
+//     after a step the ones the owners put for the next one;
+//   - the plan follows the runs and the steps.
 #include <gtest/gtest.h>
 
 #include <omp.h>
 
 #include <algorithm>
 #include <cstdint>
-#include <set>
 #include <vector>
 
 #include "support/scenes.h"
@@ -27,82 +30,101 @@ using namespace vt::dem;
 
 namespace {
 
-/// The plan's invariants for `threads` equal runs over the list of `sim`;
-/// returns how many particles are not sole.
+bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+Simulation sorted_packing() {
+  omp_set_num_threads(1);
+  Simulation sim(vt::test::spatially_sorted(vt::test::loaded_packing(1600)));
+  EXPECT_EQ(sim.run(20), 20) << sim.failure();
+  omp_set_num_threads(omp_get_num_procs());
+  return sim;
+}
+
+std::vector<int> run_of_particles(const ThreadRuns& runs, std::size_t n) {
+  std::vector<int> run_of(n);
+  for (int t = 0; t < runs.threads(); ++t) {
+    const auto [c0, c1] = runs.run(t);
+    for (std::size_t p = static_cast<std::size_t>(c0) * kChunkSize;
+         p < std::min(n, static_cast<std::size_t>(c1) * kChunkSize); ++p)
+      run_of[p] = t;
+  }
+  return run_of;
+}
+
+/// The plan's invariants for `threads` equal runs; returns the ghost count.
 std::size_t check_plan(const Simulation& sim, int threads) {
   const NeighborList& list = sim.neighbor_list();
   const std::size_t n = sim.particles().size();
   ThreadRuns runs;
   runs.prepare(chunk_count(n), n, threads);
   SplitSums plan;
-  plan.prepare(list, n, runs);
-
-  std::vector<int> run_of(n);
-  for (int t = 0; t < threads; ++t) {
-    const auto [c0, c1] = runs.run(t);
-    for (std::size_t p = static_cast<std::size_t>(c0) * kChunkSize;
-         p < std::min(n, static_cast<std::size_t>(c1) * kChunkSize); ++p)
-      run_of[p] = t;
-  }
-  const std::vector<std::int32_t>& goff = list.gather_offsets();
-  const std::vector<std::int32_t>& gcode = list.gather_codes();
+  plan.prepare(list, n, runs, 1);
+  const std::vector<int> run_of = run_of_particles(runs, n);
   const std::vector<std::int32_t>& owners = list.owners();
-  const auto slot_run = [&](std::int32_t g) { return run_of[static_cast<std::size_t>(owners[gcode[g] >> 2])]; };
-
-  std::size_t not_sole = 0;
-  for (std::int32_t p = 0; p < static_cast<std::int32_t>(n); ++p) {
-    bool own = true;
-    for (std::int32_t g = goff[p]; g < goff[p + 1]; ++g) own = own && slot_run(g) == run_of[p];
-    EXPECT_EQ(plan.sole(p), own) << "particle " << p;
-    not_sole += own ? 0 : 1;
-  }
-  EXPECT_EQ(plan.gathered(), not_sole);
-
   const std::vector<std::int32_t>& partner = list.pairs().partner;
+  const std::vector<Vec3>& spring = list.pairs().spring;
+  std::size_t ghosts = 0;
   for (int t = 0; t < threads; ++t) {
-    std::set<std::int32_t> expected;
-    for (std::size_t e = 0; e < partner.size(); ++e)
-      if (run_of[static_cast<std::size_t>(owners[e])] == t && run_of[static_cast<std::size_t>(partner[e])] != t)
-        expected.insert(partner[e]);
-    const std::vector<std::int32_t>& f = plan.foreign(t);
-    EXPECT_EQ(std::set<std::int32_t>(f.begin(), f.end()), expected) << "thread " << t;
-    EXPECT_TRUE(std::is_sorted(f.begin(), f.end()));
-    EXPECT_EQ(f.size(), expected.size()) << "no duplicates";
+    std::vector<std::int32_t> before, after, boundary;
+    for (std::size_t e = 0; e < partner.size(); ++e) {
+      const int to = run_of[static_cast<std::size_t>(owners[e])];
+      const int tp = run_of[static_cast<std::size_t>(partner[e])];
+      if (tp == t && to < t) before.push_back(static_cast<std::int32_t>(e));
+      if (tp == t && to > t) after.push_back(static_cast<std::int32_t>(e));
+      if (to == t && tp != t) boundary.push_back(static_cast<std::int32_t>(e));
+    }
+    EXPECT_EQ(plan.ghosts_before(t), before) << "thread " << t;
+    EXPECT_EQ(plan.ghosts_after(t), after) << "thread " << t;
+    EXPECT_EQ(plan.boundary(t), boundary) << "thread " << t;
+    ghosts += before.size() + after.size();
+    // a ghost reads the spring its owner's loop starts from
+    for (const std::int32_t e : before) EXPECT_TRUE(same(plan.ghost_springs()[e], spring[static_cast<std::size_t>(e)]));
+    for (const std::int32_t e : after) EXPECT_TRUE(same(plan.ghost_springs()[e], spring[static_cast<std::size_t>(e)]));
   }
-  return not_sole;
+  EXPECT_EQ(plan.ghost_count(), ghosts);
+  return ghosts;
 }
 
 }  // namespace
 
-TEST(SplitSums, PlanMarksTheParticlesAtTheRunsEnds) {
-  omp_set_num_threads(1);
-  Simulation sim(vt::test::spatially_sorted(vt::test::loaded_packing(1600)));
-  ASSERT_EQ(sim.run(20), 20) << sim.failure();
-  omp_set_num_threads(omp_get_num_procs());
+TEST(SplitSums, GhostsAreThePairsThatCrossRunsInListOrder) {
+  const Simulation sim = sorted_packing();
   const std::size_t n = sim.particles().size();
   ASSERT_GT(n, 3u * static_cast<std::size_t>(kChunkSize));
   ASSERT_TRUE(vt::test::has_owner_stored_after(sim.neighbor_list()));
+  ASSERT_GT(sim.state().contacts.size(), 1000u) << "the test needs loaded springs";
   const std::size_t two = check_plan(sim, 2), three = check_plan(sim, 3);
   EXPECT_GT(two, 0u);
-  EXPECT_LT(two, n / 2) << "most particles are sole";
+  EXPECT_LT(two, sim.neighbor_list().pairs().size() / 4) << "most pairs are evaluated once";
   EXPECT_GT(three, two) << "three runs have more ends than two";
 }
 
-TEST(SplitSums, PlanIsRemadeWhenTheRunsChange) {
-  omp_set_num_threads(1);
-  Simulation sim(vt::test::loaded_packing(1600));
-  ASSERT_EQ(sim.run(5), 5) << sim.failure();
-  omp_set_num_threads(omp_get_num_procs());
+TEST(SplitSums, GhostSpringsFollowTheStepsAndThePlan) {
+  const Simulation sim = sorted_packing();
+  const NeighborList& list = sim.neighbor_list();
   const std::size_t n = sim.particles().size();
   ThreadRuns runs;
   runs.prepare(chunk_count(n), n, 2);
   SplitSums plan;
-  plan.prepare(sim.neighbor_list(), n, runs);
-  const std::size_t two = plan.gathered();
+  EXPECT_FALSE(plan.current(list, n, runs, 1));
+  plan.prepare(list, n, runs, 1);
+  EXPECT_TRUE(plan.current(list, n, runs, 1)) << "prepared for step 1";
+  EXPECT_FALSE(plan.current(list, n, runs, 2)) << "step 1 not finished yet";
+  // the owners put this step's springs; the next step's ghosts read them
+  ASSERT_FALSE(plan.boundary(0).empty());
+  const std::int32_t e = plan.boundary(0).front();
+  const Vec3 put{1.0, -2.0, 3.0};
+  plan.next_ghost_springs()[e] = put;
+  plan.finish_step(1);
+  EXPECT_TRUE(plan.current(list, n, runs, 2));
+  EXPECT_TRUE(same(plan.ghost_springs()[e], put));
+  // a step taken without the plan (say, on one thread): refilled from the list
+  EXPECT_FALSE(plan.current(list, n, runs, 3));
+  plan.prepare(list, n, runs, 3);
+  EXPECT_TRUE(same(plan.ghost_springs()[e], list.pairs().spring[static_cast<std::size_t>(e)]));
+  plan.finish_step(3);
+  EXPECT_TRUE(plan.current(list, n, runs, 4));
+  // new runs: a new plan
   runs.prepare(chunk_count(n), n, 3);
-  plan.prepare(sim.neighbor_list(), n, runs);
-  EXPECT_GT(plan.gathered(), two) << "three runs: the plan was remade";
-  runs.prepare(chunk_count(n), n, 2);
-  plan.prepare(sim.neighbor_list(), n, runs);
-  EXPECT_EQ(plan.gathered(), two);
+  EXPECT_FALSE(plan.current(list, n, runs, 4));
 }

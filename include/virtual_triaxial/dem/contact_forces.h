@@ -15,9 +15,10 @@
 //     them to both particles as it goes (set_pair_loop_sum_threshold can
 //     ask for the gather below instead, for A/B);
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
-//     by measured speed) and adds its pairs in its own buffers; a particle
-//     whose entries all lie in one run takes that buffer's sum, the others
-//     the gather (split_sums.h).
+//     by measured speed) and sums its run's particles in its own pair loop;
+//     a pair that crosses runs is evaluated again, as a ghost, by its
+//     partner's thread, before or after its own chunks so that the order
+//     stays the list's (split_sums.h); no gather.
 // Same terms, same order, same bits (the torque terms use fused_multiply_add
 // so that compiler contraction cannot differ between them). The sums
 // therefore depend on the storage order (fixed during a run) but not on the
@@ -63,7 +64,9 @@
 // store-forwarding stall). On one thread there is no gather (its scattered
 // reads of other particles' pair states were the step's largest cost growth
 // with N, and it costs 12 % even where they fit the L2 cache); on several
-// threads only the particles at the runs' ends are gathered.
+// threads neither: the pairs that cross runs are evaluated twice instead
+// (ghosts, split_sums.h; on two threads 6.7-8 % faster than gathering the
+// particles at the runs' ends at 10^5 dense spheres, within 2 % at 12 000).
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -163,11 +166,11 @@ class ContactForces {
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several, split_gathered() tells how the sums were made).
+  /// several, split_ghosts() tells how the sums were made).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
-  /// Sphere path on several threads: particles of the last compute() whose
-  /// sums took the gather (split_sums.h); 0 otherwise.
-  std::size_t split_gathered() const { return split_used_ ? split_.gathered() : 0; }
+  /// Sphere path on several threads: pairs the last compute() evaluated
+  /// twice, as ghosts (split_sums.h); 0 otherwise.
+  std::size_t split_ghosts() const { return split_used_ ? split_.ghost_count() : 0; }
   /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
   ThreadRuns& thread_runs() { return runs_; }
@@ -195,6 +198,7 @@ class ContactForces {
   SplitSums split_;                      ///< sphere path on several threads
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
+  std::int64_t steps_ = 0;               ///< compute() calls (SplitSums' step stamps)
 };
 
 }  // namespace vt::dem

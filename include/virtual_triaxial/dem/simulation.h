@@ -130,10 +130,9 @@ class Simulation {
   /// set_pair_loop_sum_threshold); results are bit-identical either way.
   void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
   bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
-  /// Sphere path on several threads, last step: particles whose sums took
-  /// the gather (the others were summed by their thread's pair loop;
-  /// split_sums.h). 0 on one thread.
-  std::size_t split_gathered() const { return contact_forces_.split_gathered(); }
+  /// Sphere path on several threads, last step: pairs evaluated twice, as
+  /// ghosts by their partner's thread (split_sums.h). 0 on one thread.
+  std::size_t split_ghosts() const { return contact_forces_.split_ghosts(); }
   /// Chunks per thread of the sphere path and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
 

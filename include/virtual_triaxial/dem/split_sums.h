@@ -1,19 +1,27 @@
 // Per-particle force and moment sums of the sphere pair loop on several
-// threads without a gather for most particles (ContactForces::compute).
+// threads, without a gather (ContactForces::compute).
 //
-// Thread t runs the pair loop over its run of chunks (thread_runs.h)
-// and adds each contact to both particles in its own buffers, in list order,
-// as the one-thread pair loop does. A particle all of whose list entries are
-// owned by particles of its own thread's run ("sole") gets every term from
-// that thread, in list order, so its buffer sum is the one-thread sum bit
-// for bit and is copied out. The others (near the runs' ends in storage
-// order, which follows space: spatial_sort.h) take the gather from the
-// stored pair states, which gives the same bits again (contact_forces.h).
-// So the sums depend neither on the thread count nor on this plan.
+// Thread t takes its run of chunks (thread_runs.h): the particles of the
+// run are its "home". Its pair loop evaluates the pairs owned in its run, as
+// the one-thread loop does, and adds each to the owner and, when home, to
+// the partner, right in the force and moment arrays. A pair owned in
+// another run whose partner is home (a "ghost" of thread t) is evaluated
+// by thread t again, from the same inputs, so with the same force and
+// moment bit for bit, and added to the partner only; it is stored (state,
+// spring, chunk sums) by its owner alone. Thread t takes its ghosts owned
+// in lower runs first, then its own chunks, then its ghosts owned in higher
+// runs: entries are ordered by owner and runs are ranges of owners, so
+// every home particle gets its terms in list order, from zero, as on one
+// thread. The sums therefore depend neither on the thread count nor on the
+// runs; there is no gather and no barrier between the pair loop and the
+// sums, at the cost of evaluating the pairs that cross runs twice.
 //
-// The plan (runs, sole flags, and for each thread the particles outside its
-// run that its pairs touch, whose buffer slots it zeroes) is remade when
-// the neighbour list is rebuilt or the runs or N change.
+// A ghost must see the spring at the start of the step while its owner
+// overwrites it, so the owner copies the springs of its boundary entries
+// (partner outside its run) at the end of its pair loop into a write
+// buffer, read as the ghosts' springs in the next step (two buffers,
+// swapped every step). They are refilled from the list when the plan is
+// remade (list rebuilt, runs or N changed) or a step was taken without it.
 #pragma once
 
 #include <cstdint>
@@ -27,29 +35,40 @@ namespace vt::dem {
 
 class SplitSums {
  public:
-  /// Remake the plan for `list` over n particles cut into `runs` unless it
-  /// is current (same list build, n and runs).
-  void prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs);
+  /// Whether the plan serves `list` over n particles cut into `runs` and the
+  /// ghost springs follow on from step `stamp - 1`.
+  bool current(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp) const {
+    return list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version() &&
+           stamp == stamp_ + 1;
+  }
+  /// Before step `stamp` (serially): remake the plan unless current, and
+  /// refill the ghost springs from the list unless they follow on.
+  void prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp);
+  /// After every step taken with the plan (serially): swaps the buffers.
+  void finish_step(std::int64_t stamp);
 
-  /// Whether every list entry of particle p is owned within p's thread run.
-  bool sole(std::int32_t p) const { return sole_[static_cast<std::size_t>(p)] != 0; }
-  /// Particles outside thread t's run that the pairs it owns touch.
-  const std::vector<std::int32_t>& foreign(int t) const { return foreign_[static_cast<std::size_t>(t)]; }
-  /// Thread t's force and moment buffers (n entries each).
-  Vec3* force(int t) { return force_[static_cast<std::size_t>(t)].data(); }
-  Vec3* torque(int t) { return torque_[static_cast<std::size_t>(t)].data(); }
-  /// Number of particles that are not sole (take the gather).
-  std::size_t gathered() const { return gathered_; }
+  /// Entries owned in runs before (after) t whose partner is in run t, ascending.
+  const std::vector<std::int32_t>& ghosts_before(int t) const { return before_[static_cast<std::size_t>(t)]; }
+  const std::vector<std::int32_t>& ghosts_after(int t) const { return after_[static_cast<std::size_t>(t)]; }
+  /// Entries owned in run t whose partner is in another run.
+  const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
+  /// Springs at the start of this step for the ghost entries (indexed by entry).
+  const Vec3* ghost_springs() const { return spring_[read_].data(); }
+  /// Where the owners put the springs of their boundary entries this step.
+  Vec3* next_ghost_springs() { return spring_[1 - read_].data(); }
+  /// Pairs evaluated twice per step (ghost entries).
+  std::size_t ghost_count() const { return ghosts_; }
 
  private:
   const NeighborList* list_ = nullptr;
   std::int64_t build_ = -1;
   std::size_t n_ = 0;
   std::int64_t runs_version_ = -1;
-  std::size_t gathered_ = 0;
-  std::vector<std::uint8_t> sole_;
-  std::vector<std::vector<std::int32_t>> foreign_;
-  std::vector<std::vector<Vec3>> force_, torque_;
+  std::int64_t stamp_ = -2;
+  std::size_t ghosts_ = 0;
+  std::vector<std::vector<std::int32_t>> before_, after_, boundary_;
+  std::vector<Vec3> spring_[2];
+  int read_ = 0;
 };
 
 }  // namespace vt::dem

@@ -35,6 +35,10 @@ class ThreadRuns {
   /// Runs for n particles in nchunks chunks on `threads` threads: kept when
   /// all three are unchanged, else equal runs. Call serially.
   void prepare(std::int32_t nchunks, std::size_t n, int threads);
+  /// Whether prepare(nchunks, n, threads) would keep the runs.
+  bool current(std::int32_t nchunks, std::size_t n, int threads) const {
+    return nchunks == nchunks_ && n == n_ && threads == threads_;
+  }
   int threads() const { return threads_; }
   std::int32_t chunks() const { return nchunks_; }
   /// Chunks [first, second) of thread t.
