@@ -555,9 +555,9 @@ int main(int argc, char** argv) {
               static_cast<double>(sim->neighbor_list().pairs().size()) / np);
   std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
   std::printf("sums_in: %s\n", sim->summed_in_pair_loop() ? "pair loop"
-                                : sim->split_ghosts() > 0  ? "each thread's pair loop, with ghosts at the runs' ends"
+                                : sim->split_used()        ? "each thread's pair loop, with ghosts at the runs' ends"
                                                            : "gather");
-  if (sim->split_ghosts() > 0)
+  if (sim->split_used())
     std::printf("ghost_pairs: %zu\nthread_run_recuts: %lld\n", sim->split_ghosts(),
                 static_cast<long long>(sim->thread_runs().recuts()));
   std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));

@@ -169,10 +169,10 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   bool* split_used = &split_used_;
   const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
-  // One parallel region: pair evaluation, barrier, sums (on one thread the
-  // pair loop sums per particle itself, in the same order: no gather; on
-  // several, spheres sum in thread buffers and gather at the runs' ends,
-  // spheroids gather every particle).
+  // One parallel region. One thread: the pair loop sums per particle itself,
+  // in list order (or the gather after it). Several: spheres, each thread's
+  // pair loop sums its run's particles, with ghosts (split_sums.h), no
+  // barrier; spheroids, pairs, barrier, then every particle gathers.
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -232,19 +232,17 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         own.torque_out = tout;
         own.own_begin = i0;
         own.own_span = static_cast<std::uint32_t>(i1 - i0);
-        PairInputs ghost = own;
-        ghost.spring = const_cast<Vec3*>(split->ghost_springs());  // read only (evaluate_ghosts)
-        const auto ghosts = [&](const std::vector<std::int32_t>& entries) {
-          const auto count = static_cast<std::int32_t>(entries.size());
-          mine.reserve(entries.size());
-          ghost_kernel(ghost, entries.data(), count, mine.entry.data(), mine.branch.data(), mine.dist2.data());
+        const auto ghosts = [&](const std::vector<SplitSums::Ghost>& list_of) {
+          mine.reserve(list_of.size());
+          ghost_kernel(own, list_of.data(), static_cast<std::int32_t>(list_of.size()), split->ghost_springs(),
+                       mine.entry.data(), mine.branch.data(), mine.dist2.data());
         };
         ghosts(split->ghosts_before(t));
         for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(own, c);
         ghosts(split->ghosts_after(t));
         // the springs of this run's boundary entries, for the next step's ghosts
-        Vec3* next = split->next_ghost_springs();
-        for (const std::int32_t e : split->boundary(t)) next[e] = in.spring[e];
+        Vec3* next = split->next_ghost_springs() + split->boundary_slot(t);
+        for (const std::int32_t e : split->boundary(t)) *next++ = in.spring[e];
         runs->record(t, omp_get_wtime() - start);
       }
     }

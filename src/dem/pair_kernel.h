@@ -9,9 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <climits>
 
 #include "virtual_triaxial/dem/contact_forces.h"
+#include "virtual_triaxial/dem/split_sums.h"
 
 namespace vt::dem::pairs {
 
@@ -57,9 +57,9 @@ struct PairInputs {
   HertzMindlin law;
   double dt;
   // Per-particle force and torque summed right in pass 2, in list order (the
-  // gather's order, see ContactForces::compute): the arrays themselves on
-  // one thread, the thread's buffers on several (split_sums.h); null when
-  // a gather makes the sums.
+  // gather's order, see ContactForces::compute): the arrays themselves (on
+  // several threads only the particles of the thread's run: own_begin,
+  // own_span below); null when a gather makes the sums.
   Vec3* force_out;
   Vec3* torque_out;
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
@@ -93,16 +93,16 @@ inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& l
 }
 
 /// Lane k of a kernel's lanes (fields rv*, wi*, wj*, s*, mi, mj): the motion
-/// of the pair of entry e (owner i, partner j), v_j - v_i, both spins and
-/// the spring; the masses for the viscous dashpots.
+/// of a pair (owner i, partner j), v_j - v_i, both spins and its spring sp
+/// (the list's in.spring[e], or a ghost's copy); the masses for the viscous
+/// dashpots.
 template <bool Viscous, class Lanes>
-inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, std::int32_t e) {
+inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, const Vec3& sp) {
   const Vec3 rv = in.vel[j] - in.vel[i];
   L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
   const Vec3 wi = in.omg[i], wj = in.omg[j];
   L.wix[k] = wi.x; L.wiy[k] = wi.y; L.wiz[k] = wi.z;
   L.wjx[k] = wj.x; L.wjy[k] = wj.y; L.wjz[k] = wj.z;
-  const Vec3 sp = in.spring[e];
   L.sx[k] = sp.x; L.sy[k] = sp.y; L.sz[k] = sp.z;
   if constexpr (Viscous) {
     L.mi[k] = in.mass[i];
@@ -149,8 +149,9 @@ struct ChunkSums {
 
 /// A pair kernel: evaluates the pairs owned by particles [i_begin, i_end)
 /// (list entries off[i_begin] .. off[i_end]), stores each entry's result in
-/// the list, adds to in.force_out / in.torque_out when set, and returns the
-/// chunk's sums. The last four arguments are per-thread scratch
+/// the list, adds to in.force_out / in.torque_out when set (the sphere
+/// kernel: to partners in [own_begin, own_begin + own_span) only), and
+/// returns the chunk's sums. The last four arguments are per-thread scratch
 /// (ContactForces::Scratch).
 using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,
                                    Vec3*, double*);
@@ -159,13 +160,15 @@ using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t
 /// force norms, `viscous` the contact dashpots.
 PairKernel sphere_pair_kernel(bool measure, bool viscous);
 
-/// A ghost kernel (spheres, split_sums.h): the pairs of the listed entries
-/// (ascending, owned by particles of other threads) evaluated from the same
-/// inputs as their owner's pair loop (in.spring: the springs at the start
-/// of the step), added in list order to the partner's sums only; nothing
-/// is stored in the list and nothing enters the chunk sums. The last three
-/// arguments are per-thread scratch (ContactForces::Scratch).
-using GhostKernel = void (*)(const PairInputs&, const std::int32_t*, std::int32_t, std::int32_t*, Vec3*, double*);
+/// A ghost kernel (spheres, split_sums.h): the pairs of the listed ghosts
+/// (ascending entries, owned by particles of other threads) evaluated from
+/// the same inputs as their owner's pair loop, with the springs at the
+/// start of the step from `springs` (by ghost slot; in.spring is not read),
+/// added in list order to the partner's sums only; nothing is stored in the
+/// list and nothing enters the chunk sums. The last three arguments are
+/// per-thread scratch (ContactForces::Scratch).
+using GhostKernel = void (*)(const PairInputs&, const SplitSums::Ghost*, std::int32_t, const Vec3*, std::int32_t*,
+                             Vec3*, double*);
 GhostKernel sphere_ghost_kernel(bool viscous);
 /// Kernel for particles that include spheroids (spheroid_pairs.cpp).
 PairKernel spheroid_pair_kernel(bool measure, bool viscous);

@@ -30,9 +30,12 @@ struct SphereLanes {
   std::int32_t sliding[kLanes];
 };
 
-/// The contact of every lane (formulas in contact_forces.h).
+/// The contact of every lane (formulas in contact_forces.h). Not inlined:
+/// the owner's pair loop and the ghosts call this one code, so a ghost's
+/// force and moment are its owner's bit for bit whatever the compiler fuses
+/// around each call.
 template <bool Viscous>
-inline void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
+__attribute__((noinline)) void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
                                  double viscous_a) {
   for (int k = 0; k < kLanes; ++k) {
     const Vec3 d{L.dx[k], L.dy[k], L.dz[k]};
@@ -77,17 +80,18 @@ inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Ve
   return dist2 < rsum * rsum;
 }
 
-/// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2), its
-/// radii and motion (both kernels below).
+/// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2, spring
+/// sp), its radii and motion (both kernels below).
 template <bool Viscous>
-inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2) {
+inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2,
+                     const Vec3& sp) {
   const std::int32_t i = in.owner[e];
   const std::int32_t j = in.partner[e];
   L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
   L.dist2[k] = dist2;
   L.ri[k] = in.rad[i];
   L.rj[k] = in.rad[j];
-  set_motion<Viscous>(L, k, in, i, j, e);
+  set_motion<Viscous>(L, k, in, i, j, sp);
 }
 
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
@@ -160,7 +164,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       lane_e[k] = e;
       lane_i[k] = in.owner[e];
       lane_j[k] = in.partner[e];
-      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
+      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c], in.spring[e]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     for (int k = 0; k < lanes; ++k) {
@@ -190,23 +194,22 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   return sums.finish(nc);
 }
 
-/// The ghost kernel (pair_kernel.h): entries[0, count), ascending. The
-/// same contact test and lanes as evaluate_pairs, so each pair's force and
-/// moment are the owner's bit for bit (a lane's result depends only on its
-/// own inputs).
+/// The ghost kernel (pair_kernel.h): ghosts[0, count), ascending entries.
+/// The same contact test, lane set-up and lane code as evaluate_pairs, so
+/// each pair's force and moment are the owner's bit for bit. c_entry holds
+/// the touching ghosts' indices in `ghosts`.
 template <bool Viscous>
-void evaluate_ghosts(const PairInputs& in, const std::int32_t* entries, std::int32_t count, std::int32_t* c_entry,
-                     Vec3* c_branch, double* c_dist2) {
+void evaluate_ghosts(const PairInputs& in, const SplitSums::Ghost* ghosts, std::int32_t count, const Vec3* springs,
+                     std::int32_t* c_entry, Vec3* c_branch, double* c_dist2) {
   const Mat3 h = in.h, lgrad = in.lgrad;
   const HertzMindlin law = in.law;
   const double dt = in.dt;
   std::int32_t nc = 0;
   for (std::int32_t k = 0; k < count; ++k) {
-    const std::int32_t e = entries[k];
     Vec3 d;
     double dist2;
-    const bool touching = contact_test(in, h, e, d, dist2);
-    c_entry[nc] = e;
+    const bool touching = contact_test(in, h, ghosts[k].entry, d, dist2);
+    c_entry[nc] = k;
     store(c_branch[nc], d);
     c_dist2[nc] = dist2;
     nc += touching ? 1 : 0;
@@ -217,9 +220,9 @@ void evaluate_ghosts(const PairInputs& in, const std::int32_t* entries, std::int
     const int lanes = static_cast<int>(std::min<std::int32_t>(kLanes, nc - c0));
     for (int k = 0; k < kLanes; ++k) {
       const std::int32_t c = c0 + (k < lanes ? k : 0);
-      const std::int32_t e = c_entry[c];
-      lane_j[k] = in.partner[e];
-      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
+      const SplitSums::Ghost& g = ghosts[c_entry[c]];
+      lane_j[k] = in.partner[g.entry];
+      set_lane<Viscous>(L, k, in, g.entry, c_branch[c], c_dist2[c], springs[g.slot]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     for (int k = 0; k < lanes; ++k) {

@@ -25,21 +25,31 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     before_.assign(t_count, {});
     after_.assign(t_count, {});
     boundary_.assign(t_count, {});
-    ghosts_ = 0;
     const std::vector<std::int32_t>& owners = list.owners();
     for (std::size_t e = 0; e < partner.size(); ++e) {  // ascending: every list stays sorted
-      const int to = run_of(owners[e]), tp = run_of(partner[e]);
-      if (to == tp) continue;
-      const auto entry = static_cast<std::int32_t>(e);
-      (to < tp ? before_ : after_)[static_cast<std::size_t>(tp)].push_back(entry);
-      boundary_[static_cast<std::size_t>(to)].push_back(entry);
-      ++ghosts_;
+      const int to = run_of(owners[e]);
+      if (to != run_of(partner[e])) boundary_[static_cast<std::size_t>(to)].push_back(static_cast<std::int32_t>(e));
     }
-    for (std::vector<Vec3>& s : spring_) s.assign(partner.size(), Vec3{});
+    // slots: the boundary entries run by run, each run's in entry order
+    boundary_slot_.assign(t_count, 0);
+    std::int32_t slot = 0;
+    for (std::size_t t = 0; t < t_count; ++t) {
+      boundary_slot_[t] = slot;
+      for (const std::int32_t e : boundary_[t]) {
+        const int tp = run_of(partner[static_cast<std::size_t>(e)]);
+        (static_cast<int>(t) < tp ? before_ : after_)[static_cast<std::size_t>(tp)].push_back({e, slot++});
+      }
+    }
+    // before_ and after_ filled run by run of the owner: entry order too,
+    // since runs are ranges of owners
+    ghosts_ = static_cast<std::size_t>(slot);
+    for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
   }
   const std::vector<Vec3>& spring = list.pairs().spring;
-  for (const std::vector<std::int32_t>& b : boundary_)
-    for (const std::int32_t e : b) spring_[read_][static_cast<std::size_t>(e)] = spring[static_cast<std::size_t>(e)];
+  for (std::size_t t = 0; t < boundary_.size(); ++t) {
+    Vec3* out = spring_[read_].data() + boundary_slot_[t];
+    for (const std::int32_t e : boundary_[t]) *out++ = spring[static_cast<std::size_t>(e)];
+  }
 }
 
 void SplitSums::finish_step(std::int64_t stamp) {

@@ -8,7 +8,9 @@
 //     lower / higher run whose partner is in run t, ascending, so thread t
 //     adds every term of a home particle in list order;
 //   - boundary(t) is exactly the entries owned in run t with a partner
-//     outside it, and every ghost is some run's boundary entry;
+//     outside it, and every ghost is some run's boundary entry, with its
+//     own slot in the ghost spring buffers; contacts occur among the ghosts
+//     on both sides;
 //   - the ghost springs are the list's springs when the plan is made, and
 //     after a step the ones the owners put for the next one;
 //   - the plan follows the runs and the steps.
@@ -31,6 +33,12 @@ using namespace vt::dem;
 namespace {
 
 bool same(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+std::vector<std::int32_t> entries(const std::vector<SplitSums::Ghost>& g) {
+  std::vector<std::int32_t> e;
+  for (const SplitSums::Ghost& x : g) e.push_back(x.entry);
+  return e;
+}
 
 Simulation sorted_packing() {
   omp_set_num_threads(1);
@@ -64,6 +72,8 @@ std::size_t check_plan(const Simulation& sim, int threads) {
   const std::vector<std::int32_t>& partner = list.pairs().partner;
   const std::vector<Vec3>& spring = list.pairs().spring;
   std::size_t ghosts = 0;
+  std::size_t touching_before = 0, touching_after = 0;
+  std::vector<bool> slot_seen(plan.ghost_count(), false);
   for (int t = 0; t < threads; ++t) {
     std::vector<std::int32_t> before, after, boundary;
     for (std::size_t e = 0; e < partner.size(); ++e) {
@@ -73,15 +83,34 @@ std::size_t check_plan(const Simulation& sim, int threads) {
       if (tp == t && to > t) after.push_back(static_cast<std::int32_t>(e));
       if (to == t && tp != t) boundary.push_back(static_cast<std::int32_t>(e));
     }
-    EXPECT_EQ(plan.ghosts_before(t), before) << "thread " << t;
-    EXPECT_EQ(plan.ghosts_after(t), after) << "thread " << t;
+    EXPECT_EQ(entries(plan.ghosts_before(t)), before) << "thread " << t;
+    EXPECT_EQ(entries(plan.ghosts_after(t)), after) << "thread " << t;
     EXPECT_EQ(plan.boundary(t), boundary) << "thread " << t;
     ghosts += before.size() + after.size();
-    // a ghost reads the spring its owner's loop starts from
-    for (const std::int32_t e : before) EXPECT_TRUE(same(plan.ghost_springs()[e], spring[static_cast<std::size_t>(e)]));
-    for (const std::int32_t e : after) EXPECT_TRUE(same(plan.ghost_springs()[e], spring[static_cast<std::size_t>(e)]));
+    for (const auto* g : {&plan.ghosts_before(t), &plan.ghosts_after(t)})
+      for (const SplitSums::Ghost& x : *g) {
+        // its slot: its place among its owner's boundary entries, used once
+        const int to = run_of[static_cast<std::size_t>(owners[static_cast<std::size_t>(x.entry)])];
+        const std::vector<std::int32_t>& b = plan.boundary(to);
+        const auto at = std::find(b.begin(), b.end(), x.entry);
+        EXPECT_NE(at, b.end());
+        if (at == b.end()) continue;
+        EXPECT_EQ(x.slot, plan.boundary_slot(to) + static_cast<std::int32_t>(at - b.begin()));
+        EXPECT_LT(static_cast<std::size_t>(x.slot), slot_seen.size());
+        if (static_cast<std::size_t>(x.slot) >= slot_seen.size()) continue;
+        EXPECT_FALSE(slot_seen[static_cast<std::size_t>(x.slot)]);
+        slot_seen[static_cast<std::size_t>(x.slot)] = true;
+        // a ghost reads the spring its owner's loop starts from
+        EXPECT_TRUE(same(plan.ghost_springs()[x.slot], spring[static_cast<std::size_t>(x.entry)]));
+      }
+    for (const SplitSums::Ghost& x : plan.ghosts_before(t)) touching_before += list.pairs().active[x.entry] ? 1 : 0;
+    for (const SplitSums::Ghost& x : plan.ghosts_after(t)) touching_after += list.pairs().active[x.entry] ? 1 : 0;
   }
   EXPECT_EQ(plan.ghost_count(), ghosts);
+  // contacts among the ghosts owned both before and after a run (so the
+  // sums test covers both sides)
+  EXPECT_GT(touching_before, 0u);
+  EXPECT_GT(touching_after, 0u);
   return ghosts;
 }
 
@@ -112,16 +141,16 @@ TEST(SplitSums, GhostSpringsFollowTheStepsAndThePlan) {
   EXPECT_FALSE(plan.current(list, n, runs, 2)) << "step 1 not finished yet";
   // the owners put this step's springs; the next step's ghosts read them
   ASSERT_FALSE(plan.boundary(0).empty());
-  const std::int32_t e = plan.boundary(0).front();
+  const std::int32_t e = plan.boundary(0).front(), slot = plan.boundary_slot(0);
   const Vec3 put{1.0, -2.0, 3.0};
-  plan.next_ghost_springs()[e] = put;
+  plan.next_ghost_springs()[slot] = put;
   plan.finish_step(1);
   EXPECT_TRUE(plan.current(list, n, runs, 2));
-  EXPECT_TRUE(same(plan.ghost_springs()[e], put));
+  EXPECT_TRUE(same(plan.ghost_springs()[slot], put));
   // a step taken without the plan (say, on one thread): refilled from the list
   EXPECT_FALSE(plan.current(list, n, runs, 3));
   plan.prepare(list, n, runs, 3);
-  EXPECT_TRUE(same(plan.ghost_springs()[e], list.pairs().spring[static_cast<std::size_t>(e)]));
+  EXPECT_TRUE(same(plan.ghost_springs()[slot], list.pairs().spring[static_cast<std::size_t>(e)]));
   plan.finish_step(3);
   EXPECT_TRUE(plan.current(list, n, runs, 4));
   // new runs: a new plan

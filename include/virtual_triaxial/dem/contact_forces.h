@@ -125,7 +125,7 @@ struct ContactSums {
 
 class ContactForces {
  public:
-  /// Evaluate every pair and gather per-particle force and torque.
+  /// Evaluate every pair and sum the per-particle force and torque.
   /// `measure` adds the per-contact force norms needed by UFR and I_uf and
   /// the elastic energy.
   ContactSums compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
@@ -166,11 +166,14 @@ class ContactForces {
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several, split_ghosts() tells how the sums were made).
+  /// several, split_used() tells how the sums were made).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
   /// Sphere path on several threads: pairs the last compute() evaluated
   /// twice, as ghosts (split_sums.h); 0 otherwise.
   std::size_t split_ghosts() const { return split_used_ ? split_.ghost_count() : 0; }
+  /// Whether the last compute() took the sphere path on several threads
+  /// (each thread's pair loop with ghosts, split_sums.h).
+  bool split_used() const { return split_used_; }
   /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
   ThreadRuns& thread_runs() { return runs_; }

@@ -133,6 +133,8 @@ class Simulation {
   /// Sphere path on several threads, last step: pairs evaluated twice, as
   /// ghosts by their partner's thread (split_sums.h). 0 on one thread.
   std::size_t split_ghosts() const { return contact_forces_.split_ghosts(); }
+  /// Whether the last step summed spheres in each thread's pair loop (several threads).
+  bool split_used() const { return contact_forces_.split_used(); }
   /// Chunks per thread of the sphere path and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
 

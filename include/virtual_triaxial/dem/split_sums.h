@@ -19,9 +19,11 @@
 // A ghost must see the spring at the start of the step while its owner
 // overwrites it, so the owner copies the springs of its boundary entries
 // (partner outside its run) at the end of its pair loop into a write
-// buffer, read as the ghosts' springs in the next step (two buffers,
-// swapped every step). They are refilled from the list when the plan is
-// remade (list rebuilt, runs or N changed) or a step was taken without it.
+// buffer, read as the ghosts' springs in the next step (two buffers of one
+// slot per ghost, swapped every step). They are refilled from the list
+// when the plan is remade (list rebuilt, runs or N changed) or a step was
+// taken without it. (NeighborList::restore, which writes springs without a
+// rebuild, is called by constructors only, before the first step.)
 #pragma once
 
 #include <cstdint>
@@ -35,6 +37,12 @@ namespace vt::dem {
 
 class SplitSums {
  public:
+  /// A ghost: its list entry and its slot in the ghost spring buffers.
+  struct Ghost {
+    std::int32_t entry;
+    std::int32_t slot;
+  };
+
   /// Whether the plan serves `list` over n particles cut into `runs` and the
   /// ghost springs follow on from step `stamp - 1`.
   bool current(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp) const {
@@ -48,13 +56,15 @@ class SplitSums {
   void finish_step(std::int64_t stamp);
 
   /// Entries owned in runs before (after) t whose partner is in run t, ascending.
-  const std::vector<std::int32_t>& ghosts_before(int t) const { return before_[static_cast<std::size_t>(t)]; }
-  const std::vector<std::int32_t>& ghosts_after(int t) const { return after_[static_cast<std::size_t>(t)]; }
-  /// Entries owned in run t whose partner is in another run.
+  const std::vector<Ghost>& ghosts_before(int t) const { return before_[static_cast<std::size_t>(t)]; }
+  const std::vector<Ghost>& ghosts_after(int t) const { return after_[static_cast<std::size_t>(t)]; }
+  /// Entries owned in run t whose partner is in another run, ascending;
+  /// the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
-  /// Springs at the start of this step for the ghost entries (indexed by entry).
+  std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
+  /// Springs at the start of this step, by ghost slot.
   const Vec3* ghost_springs() const { return spring_[read_].data(); }
-  /// Where the owners put the springs of their boundary entries this step.
+  /// Where the owners put the springs of their boundary entries this step, by slot.
   Vec3* next_ghost_springs() { return spring_[1 - read_].data(); }
   /// Pairs evaluated twice per step (ghost entries).
   std::size_t ghost_count() const { return ghosts_; }
@@ -66,7 +76,9 @@ class SplitSums {
   std::int64_t runs_version_ = -1;
   std::int64_t stamp_ = -2;
   std::size_t ghosts_ = 0;
-  std::vector<std::vector<std::int32_t>> before_, after_, boundary_;
+  std::vector<std::vector<Ghost>> before_, after_;
+  std::vector<std::vector<std::int32_t>> boundary_;
+  std::vector<std::int32_t> boundary_slot_;
   std::vector<Vec3> spring_[2];
   int read_ = 0;
 };
