@@ -89,7 +89,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
-                                            : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
+                                            : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, false);
+  const pairs::PairKernel split_kernel = pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, true);
 
   // Gather, per particle, over its gather slots in list order: entries of
   // owners stored before it (force added), its own entries (force
@@ -177,14 +178,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   {
     Scratch& mine = scratch[omp_get_thread_num()];
     const int team = omp_get_num_threads();
-    const auto evaluate_chunk_with = [&](const PairInputs& inputs, std::int32_t c) {
+    const auto evaluate_chunk_with = [&](pairs::PairKernel k, const PairInputs& inputs, std::int32_t c) {
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
-      sums[c] = kernel(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
-                       mine.dist2.data());
+      sums[c] = k(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
+                  mine.dist2.data());
     };
-    const auto evaluate_chunk = [&](std::int32_t c) { evaluate_chunk_with(in, c); };
+    const auto evaluate_chunk = [&](std::int32_t c) { evaluate_chunk_with(kernel, in, c); };
     if (team == 1) {
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums (scatter),
@@ -238,7 +239,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                        mine.entry.data(), mine.branch.data(), mine.dist2.data());
         };
         ghosts(split->ghosts_before(t));
-        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(own, c);
+        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(split_kernel, own, c);
         ghosts(split->ghosts_after(t));
         // the springs of this run's boundary entries, for the next step's ghosts
         Vec3* next = split->next_ghost_springs() + split->boundary_slot(t);

@@ -65,9 +65,10 @@ struct PairInputs {
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
   const double* mass;
   double viscous_a;
-  // Sphere pair loop: partners outside particles [own_begin, own_begin +
-  // own_span) take no sum here (on several threads their own thread adds
-  // the pair as a ghost, split_sums.h); the default is every particle.
+  // Sphere pair loop on several threads (the split kernel,
+  // sphere_pair_kernel): partners outside particles [own_begin, own_begin +
+  // own_span) take no sum here (their thread adds the pair as a ghost,
+  // split_sums.h).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
 };
@@ -157,8 +158,9 @@ using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t
                                    Vec3*, double*);
 
 /// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy and
-/// force norms, `viscous` the contact dashpots.
-PairKernel sphere_pair_kernel(bool measure, bool viscous);
+/// force norms, `viscous` the contact dashpots; `split` reads own_begin and
+/// own_span (several threads), else every partner is summed.
+PairKernel sphere_pair_kernel(bool measure, bool viscous, bool split);
 
 /// A ghost kernel (spheres, split_sums.h): the pairs of the listed ghosts
 /// (ascending entries, owned by particles of other threads) evaluated from
