@@ -226,10 +226,17 @@ std::string ServoControllerNode::try_claim() {
 
 std::string ServoControllerNode::release() {
   if (strategy_ && strategy_->running()) strategy_->stop();
-  if (!claimed_) return "";
   virtual_triaxial::ReleaseAxes rel;
   rel.request.owner = owner_;
   rel.request.axes.assign(axes_.begin(), axes_.end());
+  if (!claimed_) {
+    // No claim recorded here; dem_node may still list one (a claim whose
+    // answer we did not see), so ask anyway: refused means none, as we think.
+    if (release_client_.exists() && release_client_.call(rel) && rel.response.success)
+      ROS_WARN("servo_controller_node: released axes %s that dem_node still listed for '%s'",
+               axes_text(axes_).c_str(), owner_.c_str());
+    return "";
+  }
   if (!release_client_.call(rel)) return "release_axes not available";
   claimed_ = false;  // refused means we do not own them any more either
   if (!rel.response.success) return "release_axes refused: " + rel.response.message;
@@ -421,9 +428,10 @@ bool ServoControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigg
 bool ServoControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {
   const std::lock_guard<std::recursive_mutex> lock(mutex_);
   enabled_ = false;
+  const bool held = claimed_;
   const std::string why = release();
   rs.success = why.empty();
-  rs.message = why.empty() ? "disabled; axes released" : "disabled; " + why;
+  rs.message = !why.empty() ? "disabled; " + why : held ? "disabled; axes released" : "disabled; no claim recorded";
   return true;
 }
 

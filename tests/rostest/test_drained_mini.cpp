@@ -260,7 +260,7 @@ TEST(DrainedMini, ASecondClaimIsRefusedAndReleasingFreesTheAxis) {
 
   auto t = rig.trigger("servo/disable");
   EXPECT_TRUE(t.success) << t.message;
-  EXPECT_TRUE(owners_are(rig, "", "", "")) << "disable did not release the axes";
+  EXPECT_TRUE(owners_are(rig, "", "", "")) << "disable did not release the axes (servo: " << t.message << ")";
   c = rig.claim_like<vtm::ClaimAxes>("claim_axes", "intruder", {0});
   EXPECT_TRUE(c.success) << c.message;
   EXPECT_EQ(c.tick, 0u) << "claimed while paused before the first tick";

@@ -104,7 +104,9 @@ class ServoControllerNode {
   void on_reconfigure(virtual_triaxial::ServoConfig& config, std::uint32_t level);
   /// get_info + claim_axes; "" on success, else why not (yet).
   std::string try_claim();
-  /// release_axes; "" on success.
+  /// release_axes; "" on success. Without a claim recorded it still asks
+  /// dem_node to release the axes (in case it lists a claim whose answer was
+  /// lost) and ignores a refusal.
   std::string release();
   void on_retry(const ::ros::WallTimerEvent&);
   void on_stress(const virtual_triaxial::Stress::ConstPtr& msg);
