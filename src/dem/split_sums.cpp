@@ -5,7 +5,7 @@
 namespace vt::dem {
 
 void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp) {
-  const bool plan = list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version();
+  const bool plan = serves(list, n, runs);
   const bool follows = plan && stamp == stamp_ + 1;
   stamp_ = stamp - 1;  // finish_step(stamp) makes it stamp
   if (follows) return;

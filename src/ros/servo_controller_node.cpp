@@ -229,17 +229,15 @@ std::string ServoControllerNode::release() {
   virtual_triaxial::ReleaseAxes rel;
   rel.request.owner = owner_;
   rel.request.axes.assign(axes_.begin(), axes_.end());
-  if (!claimed_) {
-    // No claim recorded here; dem_node may still list one (a claim whose
-    // answer we did not see), so ask anyway: refused means none, as we think.
-    if (release_client_.exists() && release_client_.call(rel) && rel.response.success)
-      ROS_WARN("servo_controller_node: released axes %s that dem_node still listed for '%s'",
-               axes_text(axes_).c_str(), owner_.c_str());
-    return "";
-  }
-  if (!release_client_.call(rel)) return "release_axes not available";
+  // Asked even without a claim recorded here: dem_node may still list one
+  // (a claim whose answer we did not see); then a refusal means none, as we think.
+  const bool held = claimed_;
+  if (!release_client_.call(rel)) return held ? "release_axes not available" : "";
   claimed_ = false;  // refused means we do not own them any more either
-  if (!rel.response.success) return "release_axes refused: " + rel.response.message;
+  if (!rel.response.success) return held ? "release_axes refused: " + rel.response.message : "";
+  if (!held)
+    ROS_WARN("servo_controller_node: released axes %s that dem_node still listed for '%s'", axes_text(axes_).c_str(),
+             owner_.c_str());
   return "";
 }
 

@@ -46,8 +46,7 @@ class SplitSums {
   /// Whether the plan serves `list` over n particles cut into `runs` and the
   /// ghost springs follow on from step `stamp - 1`.
   bool current(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp) const {
-    return list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version() &&
-           stamp == stamp_ + 1;
+    return serves(list, n, runs) && stamp == stamp_ + 1;
   }
   /// Before step `stamp` (serially): remake the plan unless current, and
   /// refill the ghost springs from the list unless they follow on.
@@ -70,6 +69,11 @@ class SplitSums {
   std::size_t ghost_count() const { return ghosts_; }
 
  private:
+  /// Whether the plan was made for this list build, n and runs.
+  bool serves(const NeighborList& list, std::size_t n, const ThreadRuns& runs) const {
+    return list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version();
+  }
+
   const NeighborList* list_ = nullptr;
   std::int64_t build_ = -1;
   std::size_t n_ = 0;
