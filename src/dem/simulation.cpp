@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/huge_pages.h"
 
 namespace vt::dem {
@@ -159,10 +160,16 @@ void Simulation::refresh_time_step(bool contacts) {
   update_damping();
 }
 
+void Simulation::set_thread_governor(std::optional<ThreadGovernor> g) {
+  governor_ = g;
+  if (governor_) governor_->limit_to_chunks(chunk_count(particles_.size()));
+}
+
 bool Simulation::step(bool measure) {
-  if (!governor_ || governor_->max_threads() == 1) return advance(measure);
-  using Clock = std::chrono::steady_clock;
+  if (!governor_) return advance(measure);
   omp_set_num_threads(governor_->threads());
+  if (governor_->max_threads() == 1) return advance(measure);
+  using Clock = std::chrono::steady_clock;
   const Clock::time_point t = Clock::now();
   const bool ok = advance(measure);
   governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());

@@ -15,6 +15,15 @@ ThreadGovernor::ThreadGovernor(int max_threads, std::int64_t min_block_steps, do
       max_ratio_(std::max(1.0, max_spacing_ratio)),
       current_(max_) {}
 
+int ThreadGovernor::useful_threads(std::int32_t chunks, int max_threads) {
+  return std::max(1, std::min(max_threads, static_cast<int>(chunks / kMinChunksPerThread)));
+}
+
+void ThreadGovernor::limit_to_chunks(std::int32_t chunks) {
+  max_ = useful_threads(chunks, max_);
+  current_ = std::min(current_, max_);
+}
+
 void ThreadGovernor::record_step(double seconds) {
   if (max_ == 1) return;
   ++block_steps_;

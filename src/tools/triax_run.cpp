@@ -48,6 +48,7 @@
 #include <sstream>
 #include <string>
 
+#include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/io/checkpoint_file.h"
 #include "virtual_triaxial/io/checkpoint_recorder.h"
 #include "virtual_triaxial/io/hdf5_atomic_file.h"
@@ -204,6 +205,10 @@ int main(int argc, char** argv) {
     }
     if (a.threads > 0) omp_set_num_threads(a.threads);
     else sim.set_thread_governor(vt::dem::ThreadGovernor(omp_get_max_threads()));
+    if (const auto& g = sim.thread_governor(); g && g->max_threads() < omp_get_max_threads())
+      std::fprintf(stderr, "triax_run: %zu particles: at most %d thread(s) of %d (fewer than %d chunks of %d per thread)\n",
+                   sim.particles().size(), g->max_threads(), omp_get_max_threads(),
+                   vt::dem::ThreadGovernor::kMinChunksPerThread, vt::dem::kChunkSize);
     // The last good state of a run that fails before its first sample.
     const vt::dem::SimulationState initial = sim.state();
     vt::io::ResultsRecorder recorder(a.out, a.quiet);

@@ -58,7 +58,8 @@ TEST(ThreadGovernor, BlocksSpanTheMinimumWallTime) {
 }
 
 TEST(ThreadGovernor, SwitchingCountsKeepsTheRunBitIdentical) {
-  vt::test::CloudScene sc = vt::test::polydisperse_cloud(1200, 0.9, 11);
+  // 2100 particles: 5 chunks, enough for two threads (useful_threads)
+  vt::test::CloudScene sc = vt::test::polydisperse_cloud(2100, 0.9, 11);
   SimulationSettings s = vt::test::undamped(0.3);
   s.damping = MassDamping(DampingModel::OD, 0.05);
   Simulation one(sc.particles, sc.cell, s), governed(sc.particles, sc.cell, s);
@@ -78,4 +79,36 @@ TEST(ThreadGovernor, SwitchingCountsKeepsTheRunBitIdentical) {
   EXPECT_EQ(std::memcmp(a.frac.data(), b.frac.data(), a.size() * sizeof(Vec3)), 0);
   EXPECT_EQ(std::memcmp(a.velocity.data(), b.velocity.data(), a.size() * sizeof(Vec3)), 0);
   EXPECT_EQ(std::memcmp(a.omega.data(), b.omega.data(), a.size() * sizeof(Vec3)), 0);
+}
+
+TEST(ThreadGovernor, CapsTheCountToTheSpecimensChunks) {
+  // at least kMinChunksPerThread = 2 chunks of 512 particles per thread
+  EXPECT_EQ(ThreadGovernor::useful_threads(0, 2), 1);
+  EXPECT_EQ(ThreadGovernor::useful_threads(2, 2), 1);
+  EXPECT_EQ(ThreadGovernor::useful_threads(3, 2), 1);
+  EXPECT_EQ(ThreadGovernor::useful_threads(4, 2), 2);
+  EXPECT_EQ(ThreadGovernor::useful_threads(24, 2), 2);
+  EXPECT_EQ(ThreadGovernor::useful_threads(5, 4), 2);
+  EXPECT_EQ(ThreadGovernor::useful_threads(8, 4), 4);
+  EXPECT_EQ(ThreadGovernor::useful_threads(8, 1), 1);
+
+  // a 1000-particle specimen (2 chunks) runs on one thread: no probe block on two
+  const SimulationSettings s = vt::test::undamped(0.3);
+  vt::test::CloudScene small = vt::test::polydisperse_cloud(1000, 0.9, 3);
+  Simulation a(small.particles, small.cell, s);
+  a.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1, 1.0));
+  EXPECT_EQ(a.thread_governor()->max_threads(), 1);
+  omp_set_num_threads(2);
+  ASSERT_EQ(a.run(60), 60);
+  EXPECT_EQ(omp_get_max_threads(), 1);  // the step set one thread
+  EXPECT_EQ(a.thread_governor()->steps_max(), 0);
+  // 2100 particles (5 chunks): two threads stay a candidate and are probed
+  vt::test::CloudScene large = vt::test::polydisperse_cloud(2100, 0.9, 3);
+  Simulation b(large.particles, large.cell, s);
+  b.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1, 1.0));
+  EXPECT_EQ(b.thread_governor()->max_threads(), 2);
+  ASSERT_EQ(b.run(60), 60);
+  omp_set_num_threads(1);
+  EXPECT_GT(b.thread_governor()->steps_max(), 0);
+  EXPECT_GT(b.thread_governor()->steps_one(), 0);
 }

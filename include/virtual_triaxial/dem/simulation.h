@@ -74,7 +74,10 @@ class Simulation {
   /// Choose the OpenMP thread count per step at run time (ThreadGovernor;
   /// results are bit-identical for any count); std::nullopt or a governor
   /// of max_threads 1 switches it off (the caller's count is used).
-  void set_thread_governor(std::optional<ThreadGovernor> g) { governor_ = g; }
+  /// The governor is capped to the specimen's chunks first
+  /// (ThreadGovernor::limit_to_chunks): a specimen too small for its
+  /// threads runs on one.
+  void set_thread_governor(std::optional<ThreadGovernor> g);
   const std::optional<ThreadGovernor>& thread_governor() const { return governor_; }
   /// Advance n steps; stops early on instability. Returns steps done.
   std::int64_t run(std::int64_t n);

@@ -20,6 +20,18 @@
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
 // 1-thread block, and a fixed spacing then lets the probes dominate).
 // With max_threads == 1 it never changes anything.
+//
+// Too little work for the threads: a thread takes whole 512-particle chunks
+// (chunked.h), and the sphere pair loop evaluates every pair that crosses
+// two threads' runs twice (split_sums.h). Below kMinChunksPerThread chunks
+// per thread more threads cannot win, so the count is capped first
+// (useful_threads; Simulation::set_thread_governor applies it to the
+// specimen) and no probe block is spent on them. Measured (dense_1000.h5,
+// session 14, 4 interleaved rounds, us per particle-step, 1 / 2 threads):
+// N = 1000 (2 chunks) 0.081 / 0.132, two threads 1.6x slower, so the
+// governor's probes cost the main job 2-4 % of its wall time; N = 2000 (4
+// chunks) 0.079-0.091 / 0.072-0.091, either may win; N = 4000 (8 chunks)
+// 0.078-0.115 / 0.071-0.082.
 #pragma once
 
 #include <cstdint>
@@ -28,8 +40,17 @@ namespace vt::dem {
 
 class ThreadGovernor {
  public:
+  static constexpr std::int32_t kMinChunksPerThread = 2;
+
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
                           int exploit_blocks = 15, double max_spacing_ratio = 64.0);
+
+  /// Threads worth running on `chunks` chunks: min(max_threads, chunks /
+  /// kMinChunksPerThread), at least 1.
+  static int useful_threads(std::int32_t chunks, int max_threads);
+  /// Caps max_threads() at useful_threads(chunks, max_threads()) (before the
+  /// first step; the count never rises above the cap).
+  void limit_to_chunks(std::int32_t chunks);
 
   /// Thread count for the next step.
   int threads() const { return current_; }
