@@ -17,6 +17,16 @@
 # contacts per particle, 100 kPa) and SPHEROID_SAMPLE (default
 # config/samples/dense_1000_spheroid.h5, aspect 1.2). Tiles: K (K x K x K) or
 # KxKyKz; 3x2x2 = 12 000 and 5x5x4 = 100 000 particles.
+# SORT=1 (default) stores the tiled sample in Morton order first
+# (triax_bench --sort-sample, spatial_sort.h), for every thread count and
+# shape alike, as LAMMPS does by default (atom_modify sort): the tiles come
+# one after another, so two threads' runs would otherwise meet across a
+# tile cut in storage order, not in space (at 12 000 spheres 4568 pairs
+# cross the runs unsorted, 2600-3200 sorted). SORT=0: as stored.
+# The header line "vCPU speeds" times one thread pinned to each CPU (taskset,
+# the first tile, 300 steps) before and after the matrix: on a VM the two
+# vCPUs can differ by 30 % or more, which bounds what two threads can gain
+# over one (a one-thread case runs on whichever the kernel picks).
 # Before each timing the script waits up to IDLE_WAIT seconds (default 0)
 # for the CPUs to be >= 90 % idle over one second, and prints the idle
 # fraction it saw and the load average: on a shared machine, quote the load.
@@ -40,6 +50,7 @@ ASPECT="${ASPECT:-1.2}"
 # packing state; triax_bench's own default, 3e7/N steps, shears the small
 # samples much further).
 STEPS="${STEPS:-1000}"
+SORT="${SORT:-1}"
 
 [[ -x "${BIN}" ]] || { echo "run_matrix: ${BIN} not built (vt_ensure_built all)" >&2; exit 1; }
 [[ "${REPEATS}" =~ ^[1-9][0-9]*$ ]] || { echo "run_matrix: REPEATS must be a whole number >= 1" >&2; exit 2; }
@@ -72,12 +83,28 @@ case_args() {
       spheroid) args=(--sample "${SPHEROID_SAMPLE}" --tile "$2") ;;
       *) echo "run_matrix: unknown shape '$1' (sphere or spheroid)" >&2; exit 2 ;;
     esac
+    [[ "${SORT}" == 1 ]] && args+=(--sort-sample)
   fi
+}
+
+[[ "${SORT}" == 0 || "${SORT}" == 1 ]] || { echo "run_matrix: SORT must be 0 or 1" >&2; exit 2; }
+# vcpu_speeds: one thread pinned to each CPU, us per particle-step
+vcpu_speeds() {
+  [[ "${LOOSE}" == 1 ]] && { echo "(not measured with LOOSE=1)"; return; }
+  command -v taskset >/dev/null || { echo "(taskset missing)"; return; }
+  local c out=""
+  case_args sphere "$(echo ${list} | cut -d' ' -f1)"
+  for ((c = 0; c < $(nproc); ++c)); do
+    out+="cpu${c} $(taskset -c "${c}" "${BIN}" "${args[@]}" --threads 1 --steps 300 2>/dev/null | awk -F': ' '$1 == "us_per_particle_step" { print $2 }') "
+  done
+  echo "${out% }"
 }
 
 list="${TILES}"; [[ "${LOOSE}" == 1 ]] && { list="${SIZES}"; mkdir -p "${CACHE_DIR}"; }
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
-echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo 'dense prepared samples, tiled')"
+echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'Morton-sorted' || echo 'as stored')")"
+echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
+trap 'echo "# vCPU speeds after: $(vcpu_speeds)"; rm -rf "${work}"' EXIT
 printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %s\n' \
   size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph idle/load
 for s in ${list}; do
