@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/thread_governor.h"
+
 namespace vt::dem {
 
 namespace {
@@ -76,5 +79,17 @@ void permute(Particles& p, const std::vector<std::int32_t>& order) {
 }
 
 void spatial_sort(Particles& p, const PeriodicCell& cell) { permute(p, spatial_order(p, cell)); }
+
+void spatial_sort(SimulationState& s) { spatial_sort(s.particles, PeriodicCell(s.h, s.h_reference)); }
+
+bool sorts_new_specimen(std::size_t n) { return ThreadGovernor::useful_threads(chunk_count(n), 2) > 1; }
+
+void order_new_specimen(Particles& p, const PeriodicCell& cell) {
+  if (sorts_new_specimen(p.size())) spatial_sort(p, cell);
+}
+
+void order_new_specimen(SimulationState& s) {
+  if (sorts_new_specimen(s.particles.size())) spatial_sort(s);
+}
 
 }  // namespace vt::dem

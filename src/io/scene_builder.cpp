@@ -1,4 +1,5 @@
 #include "virtual_triaxial/io/scene_builder.h"
+
 #include "virtual_triaxial/io/number_text.h"
 
 #include <cstdio>
@@ -7,6 +8,7 @@
 
 #include "virtual_triaxial/dem/cloud_generator.h"
 #include "virtual_triaxial/dem/material_scaling.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/io/scene_error.h"
 
@@ -79,6 +81,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       req.aspect_ratio = d.aspect_ratio;
       req.seed = d.seed;
       dem::Cloud cloud = dem::generate_cloud(req);
+      dem::order_new_specimen(cloud.particles, cloud.cell);
       return dem::Simulation(std::move(cloud.particles), cloud.cell, settings);
     }
     case ParticleSource::List: {
@@ -87,6 +90,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       for (const ParticleSpec& ps : scene.list)
         p.add_sphere(ps.id, ps.radius, scene.material.density,
                      dem::PeriodicCell::wrap(cell.to_fractional(ps.position)), ps.velocity, ps.angular_velocity);
+      dem::order_new_specimen(p, cell);
       return dem::Simulation(std::move(p), cell, settings);
     }
     case ParticleSource::SampleFile: {
@@ -103,6 +107,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       st.settings.time_step_safety = scene.time_step_safety;
       st.settings.time_step_max_ratio = scene.time_step_max_ratio;
       st.settings.limits = scene.stability;
+      dem::order_new_specimen(st);
       return dem::Simulation(st);
     }
   }

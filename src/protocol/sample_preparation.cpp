@@ -9,6 +9,7 @@
 #include "virtual_triaxial/control/servo_strategy.h"
 #include "virtual_triaxial/dem/axis_stiffness.h"
 #include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
 
 namespace vt::protocol {
 
@@ -67,6 +68,7 @@ class Preparer {
     req.void_ratio = s_.initial_void_ratio;
     req.seed = s_.seed;
     dem::Cloud cloud = dem::generate_cloud(req);
+    dem::order_new_specimen(cloud.particles, cloud.cell);  // Morton order above 1536 particles
     dem::SimulationSettings ss;
     ss.material = s_.material;
     ss.material.friction = s_.mu1;

@@ -25,6 +25,7 @@
 
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/simulation.h"
 
 namespace vt::dem {
 
@@ -37,5 +38,26 @@ void permute(Particles& p, const std::vector<std::int32_t>& order);
 
 /// permute(p, spatial_order(p, cell)).
 void spatial_sort(Particles& p, const PeriodicCell& cell);
+/// spatial_sort of a state's particles in its cell (contact histories are
+/// keyed by ids and need no change).
+void spatial_sort(SimulationState& s);
+
+/// The storage order of a NEW specimen: the start of a run from a sample
+/// file, a scene's particle list or a generated cloud (io::build_simulation,
+/// dem_node's sample loader); never a resumed run or a checkpoint, whose
+/// order is part of the state it continues. A specimen large enough for
+/// two threads (ThreadGovernor::useful_threads(chunks, 2) == 2, i.e. more
+/// than 1536 particles) is sorted: its threads' runs then meet across a face
+/// in space, not everywhere (prepared samples leave generate_cloud in order
+/// of decreasing radius, spatially random). Measured on the shipped
+/// dense_4000.h5 (session 14, triax_bench, 3 rounds, us per particle-step):
+/// as stored, two threads 0.107-0.109 (9280 of 17 000 list entries cross
+/// the runs), one 0.080-0.082; sorted, two 0.067-0.073 (1614 cross), one
+/// 0.077-0.080. A smaller specimen runs on one thread in cache, where the
+/// order costs nothing, and keeps its stored order (and results) bit for bit.
+bool sorts_new_specimen(std::size_t n);
+/// spatial_sort when sorts_new_specimen(n).
+void order_new_specimen(Particles& p, const PeriodicCell& cell);
+void order_new_specimen(SimulationState& s);
 
 }  // namespace vt::dem
