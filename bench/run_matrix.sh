@@ -18,8 +18,9 @@
 # config/samples/dense_1000_spheroid.h5, aspect 1.2). Tiles: K (K x K x K) or
 # KxKyKz; 3x2x2 = 12 000 and 5x5x4 = 100 000 particles.
 # SORT=1 (default) stores the tiled sample in Morton order first
-# (triax_bench --sort-sample, spatial_sort.h), for every thread count and
-# shape alike, as LAMMPS does by default (atom_modify sort): the tiles come
+# (triax_bench --sort-sample, spatial_sort.h), for every tile, thread count
+# and shape alike, as LAMMPS does by default (atom_modify sort; our runs sort
+# new specimens above 1536 particles, dem::order_new_specimen): the tiles come
 # one after another, so two threads' runs would otherwise meet across a
 # tile cut in storage order, not in space (at 12 000 spheres 4568 pairs
 # cross the runs unsorted, 2600-3200 sorted). SORT=0: as stored.
@@ -104,7 +105,7 @@ list="${TILES}"; [[ "${LOOSE}" == 1 ]] && { list="${SIZES}"; mkdir -p "${CACHE_D
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'Morton-sorted' || echo 'as stored')")"
 echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
-trap 'echo "# vCPU speeds after: $(vcpu_speeds)"; rm -rf "${work}"' EXIT
+
 printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %s\n' \
   size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph idle/load
 for s in ${list}; do
@@ -144,3 +145,4 @@ for s in ${list}; do
     done
   done
 done
+echo "# vCPU speeds after: $(vcpu_speeds)"

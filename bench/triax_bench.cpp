@@ -438,7 +438,7 @@ int main(int argc, char** argv) {
       n = static_cast<long long>(st.particles.size());
       spheroids = st.particles.has_spheroids();
       sort = sort_sample;
-      if (sort) spatial_sort(st.particles, PeriodicCell(st.h, st.h_reference));
+      if (sort) spatial_sort(st);
       preloaded = std::make_unique<Simulation>(st);
     } catch (const std::exception& e) {
       std::cerr << "triax_bench: " << e.what() << "\n";

@@ -167,12 +167,21 @@ void Simulation::set_thread_governor(std::optional<ThreadGovernor> g) {
 
 bool Simulation::step(bool measure) {
   if (!governor_) return advance(measure);
+  // the governor's count for this step only: the caller's is restored (a
+  // node that builds its next governor from omp_get_max_threads() must not
+  // inherit a capped count)
+  const int caller = omp_get_max_threads();
   omp_set_num_threads(governor_->threads());
-  if (governor_->max_threads() == 1) return advance(measure);
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point t = Clock::now();
-  const bool ok = advance(measure);
-  governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());
+  bool ok;
+  if (governor_->max_threads() == 1) {
+    ok = advance(measure);
+  } else {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point t = Clock::now();
+    ok = advance(measure);
+    governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());
+  }
+  omp_set_num_threads(caller);
   return ok;
 }
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/thread_governor.h"
 
 namespace vt::dem {
@@ -82,7 +83,10 @@ void spatial_sort(Particles& p, const PeriodicCell& cell) { permute(p, spatial_o
 
 void spatial_sort(SimulationState& s) { spatial_sort(s.particles, PeriodicCell(s.h, s.h_reference)); }
 
-bool sorts_new_specimen(std::size_t n) { return ThreadGovernor::useful_threads(chunk_count(n), 2) > 1; }
+// the first size that two threads take (2 chunks of 512 each)
+static_assert(kSortFromParticles == (2 * ThreadGovernor::kMinChunksPerThread - 1) * kChunkSize);
+
+bool sorts_new_specimen(std::size_t n) { return n > kSortFromParticles; }
 
 void order_new_specimen(Particles& p, const PeriodicCell& cell) {
   if (sorts_new_specimen(p.size())) spatial_sort(p, cell);

@@ -20,8 +20,10 @@ int ThreadGovernor::useful_threads(std::int32_t chunks, int max_threads) {
 }
 
 void ThreadGovernor::limit_to_chunks(std::int32_t chunks) {
-  max_ = useful_threads(chunks, max_);
-  current_ = std::min(current_, max_);
+  const int capped = useful_threads(chunks, max_);
+  if (capped == max_) return;
+  // costs measured for the old maximum no longer apply: start afresh
+  *this = ThreadGovernor(capped, min_steps_, min_seconds_, exploit_, max_ratio_);
 }
 
 void ThreadGovernor::record_step(double seconds) {

@@ -107,8 +107,7 @@ dem::Simulation build_simulation(const SceneConfig& scene) {
       st.settings.time_step_safety = scene.time_step_safety;
       st.settings.time_step_max_ratio = scene.time_step_max_ratio;
       st.settings.limits = scene.stability;
-      dem::order_new_specimen(st);
-      return dem::Simulation(st);
+      return dem::Simulation(st);  // as stored: a sample file may continue a run (never re-sorted)
     }
   }
   throw std::logic_error("unknown particle source");

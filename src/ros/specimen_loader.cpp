@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "virtual_triaxial/dem/mass_damping.h"
-#include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/scene_builder.h"
 #include "virtual_triaxial/io/scene_parser.h"
 
@@ -51,7 +50,6 @@ Specimen SpecimenLoader::load_sample(const std::string& path) const {
   if (!bad.empty()) throw std::invalid_argument(bad);
   Specimen s;
   dem::SimulationState st = io::read_sample(path, &s.meta);
-  dem::order_new_specimen(st);  // a new run (load_checkpoint keeps the order)
   s.sim = std::make_unique<dem::Simulation>(st);
   s.source = path;
   apply(s);

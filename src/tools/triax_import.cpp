@@ -1,13 +1,20 @@
 // triax_import --lammps FILE.data --out sample.h5 [--young-modulus PA]
 //              [--poisson-ratio NU] [--friction MU] [--damping-ratio XI]
 // triax_import --to-lammps sample.h5 --out FILE.data
+// triax_import --sort sample.h5 --out sorted.h5
 //
 // Brings a packing made by LAMMPS (a data file of atom_style sphere, units
 // si; io/lammps_data_file.h) into a sample file that triax_run, the rig and
 // triax_bench load (`particles: {sample: ...}`), and the reverse (used by
 // bench/lammps_side_by_side.sh). The density comes from the data file; E, nu,
 // mu default to 70 GPa, 0.3, 0.5; OD damping ratio default 0.02. The
-// imported sample has no contact history (a data file holds none).
+// imported sample has no contact history (a data file holds none); above
+// 1536 particles it is stored in Morton order (dem::order_new_specimen).
+// --sort stores a sample file's state in Morton order (dem::spatial_sort,
+// at any size): the same packing, contacts and metadata, for samples
+// written before session 14 or by other tools (the shipped
+// dense_4000.h5 and loose_4000.h5 were re-stored with it). Do not sort a
+// state that a protocol is meant to continue bit for bit.
 // Prints a summary (particles, void ratio, mean stress, contacts per
 // particle of the first step). Exit codes: 0 done, 2 bad input (one line
 // naming the file and line, or the flag).
@@ -17,6 +24,7 @@
 #include <string>
 
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/lammps_data_file.h"
 #include "virtual_triaxial/io/sample_file.h"
 
@@ -26,7 +34,8 @@ int usage(const std::string& msg) {
   if (!msg.empty()) std::cerr << "triax_import: " << msg << "\n";
   std::cerr << "usage: triax_import --lammps FILE.data --out sample.h5 [--young-modulus PA] [--poisson-ratio NU]\n"
                "                    [--friction MU] [--damping-ratio XI]\n"
-               "       triax_import --to-lammps sample.h5 --out FILE.data\n";
+               "       triax_import --to-lammps sample.h5 --out FILE.data\n"
+               "       triax_import --sort sample.h5 --out sorted.h5\n";
   return 2;
 }
 
@@ -40,7 +49,7 @@ bool number(const char* text, double& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string lammps, to_lammps, out;
+  std::string lammps, to_lammps, sort, out;
   vt::dem::Material mat;
   double xi = 0.02;
   for (int a = 1; a < argc; ++a) {
@@ -49,6 +58,7 @@ int main(int argc, char** argv) {
     double x = 0;
     if (k == "--lammps" && v) lammps = v;
     else if (k == "--to-lammps" && v) to_lammps = v;
+    else if (k == "--sort" && v) sort = v;
     else if (k == "--out" && v) out = v;
     else if (k == "--young-modulus" && number(v, x)) mat.young = x;
     else if (k == "--poisson-ratio" && number(v, x)) mat.poisson = x;
@@ -58,8 +68,8 @@ int main(int argc, char** argv) {
     else return usage(k + ": unknown flag or missing/invalid value");
     ++a;
   }
-  if (out.empty() || lammps.empty() == to_lammps.empty())
-    return usage("give --out and exactly one of --lammps, --to-lammps");
+  if (out.empty() || (!lammps.empty()) + (!to_lammps.empty()) + (!sort.empty()) != 1)
+    return usage("give --out and exactly one of --lammps, --to-lammps, --sort");
   const std::string bad = mat.validate();
   if (!bad.empty()) return usage(bad);
   try {
@@ -68,9 +78,18 @@ int main(int argc, char** argv) {
       std::cout << "triax_import: wrote " << out << "\n";
       return 0;
     }
+    if (!sort.empty()) {
+      vt::io::SampleMetadata meta;
+      vt::dem::SimulationState st = vt::io::read_sample(sort, &meta);
+      vt::dem::spatial_sort(st);
+      vt::io::write_sample(out, st, meta);
+      std::printf("particles: %zu\nsorted: Morton order\nwrote: %s\n", st.particles.size(), out.c_str());
+      return 0;
+    }
     vt::dem::SimulationSettings settings;
     settings.damping = vt::dem::MassDamping(vt::dem::DampingModel::OD, xi);
-    const vt::dem::SimulationState st = vt::io::read_lammps_data(lammps, mat, settings);
+    vt::dem::SimulationState st = vt::io::read_lammps_data(lammps, mat, settings);
+    vt::dem::order_new_specimen(st);  // a new specimen
     vt::dem::Simulation sim(st);
     if (!sim.step(true)) throw std::runtime_error("first step failed: " + sim.failure());
     const vt::dem::Measures m = sim.measures();

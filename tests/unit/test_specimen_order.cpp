@@ -1,8 +1,8 @@
 // Storage order of a new specimen (dem/spatial_sort.h, order_new_specimen):
-// a specimen large enough for two threads (more than 1536 particles) starts
-// its run in Morton order, carrying every particle's data and its contacts
-// with it; a smaller one keeps its stored order bit for bit; a resumed run
-// is never re-sorted (the order is part of the state it continues).
+// a generated specimen of more than 1536 particles starts in Morton order,
+// carrying every particle's data and its contacts with it; a smaller one
+// keeps the generator's order; a sample file is loaded as stored, so a
+// state saved mid-run continues bit for bit.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -12,6 +12,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 #include "virtual_triaxial/dem/chunked.h"
@@ -27,34 +28,54 @@ namespace {
 
 std::string sample(const char* name) { return (fs::path(VT_SOURCE_DIR) / "config/samples" / name).string(); }
 
-/// A shipped protocol's scene.
-io::SceneConfig shipped_protocol(const char* name) {
-  return io::load_scene((fs::path(VT_SOURCE_DIR) / "config/protocols" / name).string());
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p.string());
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 bool same_order(const dem::Particles& a, const dem::Particles& b) {
   return a.size() == b.size() && std::memcmp(a.id.data(), b.id.data(), a.size() * sizeof(a.id[0])) == 0;
 }
 
+bool in_space_order(const dem::Particles& p, const dem::PeriodicCell& cell) {
+  const std::vector<std::int32_t> order = dem::spatial_order(p, cell);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    if (order[k] != static_cast<std::int32_t>(k)) return false;
+  return true;
+}
+
+/// The shipped dense_4000.h5 stored in reverse order: not in space order.
+dem::SimulationState reversed_dense_4000() {
+  dem::SimulationState s = io::read_sample(sample("dense_4000.h5"));
+  std::vector<std::int32_t> order(s.particles.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = static_cast<std::int32_t>(order.size() - 1 - k);
+  dem::permute(s.particles, order);
+  return s;
+}
+
 }  // namespace
 
 TEST(SpecimenOrder, SortsFromTheSizeWhereTwoThreadsAreUseful) {
   // two threads need 2 chunks of 512 each (ThreadGovernor::kMinChunksPerThread)
+  EXPECT_EQ(dem::kSortFromParticles, 3u * dem::kChunkSize);
   EXPECT_FALSE(dem::sorts_new_specimen(1000));
   EXPECT_FALSE(dem::sorts_new_specimen(3 * dem::kChunkSize));      // 1536: 3 chunks
   EXPECT_TRUE(dem::sorts_new_specimen(3 * dem::kChunkSize + 1));   // 4 chunks
   EXPECT_TRUE(dem::sorts_new_specimen(100000));
 }
 
-TEST(SpecimenOrder, ALargeSampleStartsInMortonOrderWithItsDataAndContacts) {
-  const dem::SimulationState stored = io::read_sample(sample("dense_4000.h5"));
-  ASSERT_EQ(stored.particles.size(), 4000u);
+TEST(SpecimenOrder, SortingCarriesEveryParticlesDataAndContacts) {
+  const dem::SimulationState stored = reversed_dense_4000();
+  const dem::PeriodicCell cell(stored.h, stored.h_reference);
+  ASSERT_FALSE(in_space_order(stored.particles, cell));
   dem::SimulationState sorted = stored;
   dem::order_new_specimen(sorted);
   const dem::Particles &a = stored.particles, &b = sorted.particles;
-  ASSERT_FALSE(same_order(a, b));  // the shipped sample is not stored in space order
+  EXPECT_TRUE(in_space_order(b, cell));
   // exactly the order of spatial_order
-  const std::vector<std::int32_t> order = dem::spatial_order(a, dem::PeriodicCell(stored.h, stored.h_reference));
+  const std::vector<std::int32_t> order = dem::spatial_order(a, cell);
   for (std::size_t k = 0; k < b.size(); ++k) ASSERT_EQ(b.id[k], a.id[static_cast<std::size_t>(order[k])]);
   // every particle keeps its own data (looked up by id)
   std::map<std::int64_t, std::size_t> where;
@@ -68,8 +89,8 @@ TEST(SpecimenOrder, ALargeSampleStartsInMortonOrderWithItsDataAndContacts) {
     ASSERT_EQ(b.mass[k], a.mass[i]);
   }
   // contacts are keyed by ids: unchanged
-  ASSERT_EQ(sorted.contacts.size(), stored.contacts.size());
   ASSERT_FALSE(stored.contacts.empty());
+  ASSERT_EQ(sorted.contacts.size(), stored.contacts.size());
   EXPECT_EQ(std::memcmp(sorted.contacts.data(), stored.contacts.data(),
                         stored.contacts.size() * sizeof(stored.contacts[0])),
             0);
@@ -77,61 +98,66 @@ TEST(SpecimenOrder, ALargeSampleStartsInMortonOrderWithItsDataAndContacts) {
   dem::SimulationState again = sorted;
   dem::order_new_specimen(again);
   EXPECT_TRUE(same_order(again.particles, sorted.particles));
-  // the same with the same contacts: the stress of the first step agrees to round-off
+  // the same packing: the first step's mean stress agrees to round-off
   dem::Simulation s0(stored), s1(sorted);
   ASSERT_TRUE(s0.step(true));
   ASSERT_TRUE(s1.step(true));
   const double p0 = s0.measures().p, p1 = s1.measures().p;
   EXPECT_GT(p0, 5e4);
   EXPECT_NEAR(p1, p0, 1e-9 * p0);
+  // the shipped 4000-particle samples are stored sorted (triax_import --sort)
+  for (const char* name : {"dense_4000.h5", "loose_4000.h5"}) {
+    const dem::SimulationState s = io::read_sample(sample(name));
+    EXPECT_TRUE(in_space_order(s.particles, dem::PeriodicCell(s.h, s.h_reference))) << name;
+  }
 }
 
-TEST(SpecimenOrder, RunsStartSortedOnlyWhenLargeAndResumesKeepTheirOrder) {
-  // a run from a 4000-particle sample (dense_4000.h5) starts in the sorted order ...
-  dem::SimulationState expected = io::read_sample(sample("dense_4000.h5"));
-  dem::spatial_sort(expected);
-  const dem::Simulation big = io::build_simulation(shipped_protocol("drained_100kPa_4000.yaml"));
-  EXPECT_TRUE(same_order(big.particles(), expected.particles));
-  // ... one from a 1000-particle sample (dense_1000.h5) in the stored order
-  const dem::SimulationState small_stored = io::read_sample(sample("dense_1000.h5"));
-  const dem::Simulation small = io::build_simulation(shipped_protocol("drained_100kPa.yaml"));
-  EXPECT_TRUE(same_order(small.particles(), small_stored.particles));
-  dem::SimulationState small_sorted = small_stored;
-  dem::spatial_sort(small_sorted);
-  EXPECT_FALSE(same_order(small.particles(), small_sorted.particles));  // the test can tell
-  // a state continued as it is (resume, checkpoint) keeps its order, even
-  // after the cell has deformed (which would move particles between bins)
-  dem::Simulation run = io::build_simulation(shipped_protocol("drained_100kPa_4000.yaml"));
-  run.set_strain_rates({0.0, 0.0, -2e-3 / run.time_scale().t0});
-  ASSERT_EQ(run.run(50), 50);
-  const dem::SimulationState mid = run.state();
-  const dem::Simulation resumed(mid);
-  EXPECT_TRUE(same_order(resumed.particles(), mid.particles));
+TEST(SpecimenOrder, ASampleFileLoadsAsStoredAndAMidRunStateContinuesBitForBit) {
+  // a 4000-particle state in an order that is not the space order, saved as
+  // a sample file and run through the scene builder (as triax_run and the rig do)
+  const fs::path dir = fs::temp_directory_path() / ("vt_specimen_order_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string start = (dir / "start.h5").string(), mid = (dir / "mid.h5").string();
+  io::write_sample(start, reversed_dense_4000(), io::SampleMetadata{});
+  const std::string protocol = read_text(fs::path(VT_SOURCE_DIR) / "config/protocols/drained_100kPa_4000.yaml");
+  const std::string key = "sample_file: ../samples/dense_4000.h5";
+  ASSERT_NE(protocol.find(key), std::string::npos);
+  const auto scene_from = [&](const std::string& file) {
+    std::string text = protocol;
+    text.replace(text.find(key), key.size(), "sample_file: " + file);
+    return io::parse_scene(text, (dir / "scene.yaml").string());
+  };
+  // loaded as stored
+  dem::Simulation whole = io::build_simulation(scene_from(start));
+  EXPECT_TRUE(same_order(whole.particles(), reversed_dense_4000().particles));
+  // 60 steps at once against 30, save, load, 30
+  const double rate = 1e-4 / whole.time_scale().t0;
+  whole.set_strain_rates({0.5 * rate, 0.5 * rate, -rate});
+  ASSERT_EQ(whole.run(60), 60);
+  dem::Simulation first = io::build_simulation(scene_from(start));
+  first.set_strain_rates({0.5 * rate, 0.5 * rate, -rate});
+  ASSERT_EQ(first.run(30), 30);
+  io::write_sample(mid, first.state(), io::SampleMetadata{});
+  dem::Simulation second = io::build_simulation(scene_from(mid));
+  ASSERT_EQ(second.run(30), 30);
+  const dem::Particles &a = whole.particles(), &b = second.particles();
+  ASSERT_TRUE(same_order(a, b));
+  EXPECT_EQ(std::memcmp(a.frac.data(), b.frac.data(), a.size() * sizeof(dem::Vec3)), 0);
+  EXPECT_EQ(std::memcmp(a.velocity.data(), b.velocity.data(), a.size() * sizeof(dem::Vec3)), 0);
+  fs::remove_all(dir);
 }
 
 TEST(SpecimenOrder, AGeneratedCloudStartsSortedWhenLarge) {
   // the default scene's cloud (config/scenes/default.yaml) at 1000 and 2000 particles
-  std::string yaml;
-  {
-    std::ifstream in((fs::path(VT_SOURCE_DIR) / "config/scenes/default.yaml").string());
-    std::stringstream ss;
-    ss << in.rdbuf();
-    yaml = ss.str();
-  }
+  const std::string yaml = read_text(fs::path(VT_SOURCE_DIR) / "config/scenes/default.yaml");
   const std::size_t at = yaml.find("count: 1000");
   ASSERT_NE(at, std::string::npos);
-  const auto in_space_order = [](const dem::Simulation& sim) {
-    const std::vector<std::int32_t> order = dem::spatial_order(sim.particles(), sim.cell());
-    for (std::size_t k = 0; k < order.size(); ++k)
-      if (order[k] != static_cast<std::int32_t>(k)) return false;
-    return true;
-  };
   const dem::Simulation small = io::build_simulation(io::parse_scene(yaml));
   EXPECT_EQ(small.particles().size(), 1000u);
-  EXPECT_FALSE(in_space_order(small));  // the generator's order (decreasing radius)
+  EXPECT_FALSE(in_space_order(small.particles(), small.cell()));  // the generator's order (decreasing radius)
   std::string big_yaml = yaml;
   big_yaml.replace(at, 11, "count: 2000");
   const dem::Simulation big = io::build_simulation(io::parse_scene(big_yaml));
   EXPECT_EQ(big.particles().size(), 2000u);
-  EXPECT_TRUE(in_space_order(big));
+  EXPECT_TRUE(in_space_order(big.particles(), big.cell()));
 }

@@ -91,6 +91,17 @@ TEST(ThreadGovernor, CapsTheCountToTheSpecimensChunks) {
   EXPECT_EQ(ThreadGovernor::useful_threads(5, 4), 2);
   EXPECT_EQ(ThreadGovernor::useful_threads(8, 4), 4);
   EXPECT_EQ(ThreadGovernor::useful_threads(8, 1), 1);
+  // a cap that lowers the maximum starts afresh (no cost of the old maximum kept)
+  ThreadGovernor g(2, 1, 0.0, 15);
+  for (int k = 0; k < 5; ++k) g.record_step(1e-3);
+  ASSERT_GT(g.steps_max() + g.steps_one(), 0);
+  g.limit_to_chunks(3);
+  EXPECT_EQ(g.max_threads(), 1);
+  EXPECT_EQ(g.threads(), 1);
+  EXPECT_EQ(g.steps_max() + g.steps_one(), 0);
+  EXPECT_EQ(g.cost_max(), 0.0);
+  g.limit_to_chunks(40);  // never raised
+  EXPECT_EQ(g.max_threads(), 1);
 
   // a 1000-particle specimen (2 chunks) runs on one thread: no probe block on two
   const SimulationSettings s = vt::test::undamped(0.3);
@@ -100,7 +111,8 @@ TEST(ThreadGovernor, CapsTheCountToTheSpecimensChunks) {
   EXPECT_EQ(a.thread_governor()->max_threads(), 1);
   omp_set_num_threads(2);
   ASSERT_EQ(a.run(60), 60);
-  EXPECT_EQ(omp_get_max_threads(), 1);  // the step set one thread
+  EXPECT_EQ(omp_get_max_threads(), 2);  // the caller's count is restored after each step
+  EXPECT_FALSE(a.split_used());          // the step itself ran one thread
   EXPECT_EQ(a.thread_governor()->steps_max(), 0);
   // 2100 particles (5 chunks): two threads stay a candidate and are probed
   vt::test::CloudScene large = vt::test::polydisperse_cloud(2100, 0.9, 3);

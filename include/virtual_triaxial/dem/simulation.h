@@ -72,11 +72,11 @@ class Simulation {
   /// stepping) when the stability monitor reports a numerical failure.
   bool step(bool measure = false);
   /// Choose the OpenMP thread count per step at run time (ThreadGovernor;
-  /// results are bit-identical for any count); std::nullopt or a governor
-  /// of max_threads 1 switches it off (the caller's count is used).
-  /// The governor is capped to the specimen's chunks first
-  /// (ThreadGovernor::limit_to_chunks): a specimen too small for its
-  /// threads runs on one.
+  /// results are bit-identical for any count); std::nullopt switches it off
+  /// (the caller's count is used). The governor is capped to the
+  /// specimen's chunks first (ThreadGovernor::limit_to_chunks): a specimen
+  /// too small for its threads runs one thread every step. Each step runs
+  /// the governor's count and restores the caller's.
   void set_thread_governor(std::optional<ThreadGovernor> g);
   const std::optional<ThreadGovernor>& thread_governor() const { return governor_; }
   /// Advance n steps; stops early on instability. Returns steps done.

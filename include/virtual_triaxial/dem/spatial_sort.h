@@ -20,14 +20,16 @@
 // Deterministic; O(N log N).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
-#include "virtual_triaxial/dem/simulation.h"
 
 namespace vt::dem {
+
+struct SimulationState;
 
 /// New storage order: order[k] = old index of the particle stored at k.
 std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell);
@@ -42,19 +44,25 @@ void spatial_sort(Particles& p, const PeriodicCell& cell);
 /// keyed by ids and need no change).
 void spatial_sort(SimulationState& s);
 
-/// The storage order of a NEW specimen: the start of a run from a sample
-/// file, a scene's particle list or a generated cloud (io::build_simulation,
-/// dem_node's sample loader); never a resumed run or a checkpoint, whose
-/// order is part of the state it continues. A specimen large enough for
-/// two threads (ThreadGovernor::useful_threads(chunks, 2) == 2, i.e. more
-/// than 1536 particles) is sorted: its threads' runs then meet across a face
-/// in space, not everywhere (prepared samples leave generate_cloud in order
-/// of decreasing radius, spatially random). Measured on the shipped
-/// dense_4000.h5 (session 14, triax_bench, 3 rounds, us per particle-step):
-/// as stored, two threads 0.107-0.109 (9280 of 17 000 list entries cross
-/// the runs), one 0.080-0.082; sorted, two 0.067-0.073 (1614 cross), one
-/// 0.077-0.080. A smaller specimen runs on one thread in cache, where the
-/// order costs nothing, and keeps its stored order (and results) bit for bit.
+/// The storage order of a NEW specimen: one generated from a scene's
+/// particle list or cloud (io::build_simulation), a prepared sample
+/// (sample preparation's converged state) and a packing imported from
+/// LAMMPS (triax_import). Never a sample file being loaded: a sample file
+/// may hold a state saved mid-run that a protocol continues bit for bit
+/// (rig checkpoints, save_sample, last_good), and a resume continues the
+/// order of its state. A specimen of more than kSortFromParticles particles
+/// (enough for two threads: 2 threads x ThreadGovernor::kMinChunksPerThread
+/// chunks of 512) is sorted: its threads' runs then meet across a face in
+/// space, not everywhere (generate_cloud returns particles by decreasing
+/// radius, spatially random). Measured on the shipped dense_4000.h5 as
+/// prepared before session 14 (triax_bench, 3 rounds, us per
+/// particle-step): as stored, two threads 0.107-0.109 (7878-9280 of
+/// 16 952 list entries cross the runs), one 0.080-0.082; sorted, two
+/// 0.067-0.073 (1614-1621 cross), one 0.077-0.080. Smaller specimens run on
+/// one thread in cache, where the order costs nothing, and keep their order
+/// (and results) bit for bit. The threshold is fixed here, not derived from
+/// the governor's tuning, because it changes results.
+constexpr std::size_t kSortFromParticles = 1536;
 bool sorts_new_specimen(std::size_t n);
 /// spatial_sort when sorts_new_specimen(n).
 void order_new_specimen(Particles& p, const PeriodicCell& cell);

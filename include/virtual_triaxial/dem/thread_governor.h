@@ -48,8 +48,8 @@ class ThreadGovernor {
   /// Threads worth running on `chunks` chunks: min(max_threads, chunks /
   /// kMinChunksPerThread), at least 1.
   static int useful_threads(std::int32_t chunks, int max_threads);
-  /// Caps max_threads() at useful_threads(chunks, max_threads()) (before the
-  /// first step; the count never rises above the cap).
+  /// Caps max_threads() at useful_threads(chunks, max_threads()); a cap
+  /// that lowers it starts the governor afresh (no cost or block kept).
   void limit_to_chunks(std::int32_t chunks);
 
   /// Thread count for the next step.
