@@ -170,18 +170,16 @@ bool Simulation::step(bool measure) {
   // the governor's count for this step only: the caller's is restored (a
   // node that builds its next governor from omp_get_max_threads() must not
   // inherit a capped count)
-  const int caller = omp_get_max_threads();
+  struct RestoreThreads {  // also when advance() throws
+    int count;
+    ~RestoreThreads() { omp_set_num_threads(count); }
+  } restore{omp_get_max_threads()};
   omp_set_num_threads(governor_->threads());
-  bool ok;
-  if (governor_->max_threads() == 1) {
-    ok = advance(measure);
-  } else {
-    using Clock = std::chrono::steady_clock;
-    const Clock::time_point t = Clock::now();
-    ok = advance(measure);
-    governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());
-  }
-  omp_set_num_threads(caller);
+  if (governor_->max_threads() == 1) return advance(measure);
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t = Clock::now();
+  const bool ok = advance(measure);
+  governor_->record_step(std::chrono::duration<double>(Clock::now() - t).count());
   return ok;
 }
 

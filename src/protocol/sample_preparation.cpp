@@ -42,10 +42,6 @@ class Preparer {
     generate();
     if (shrink() && compress()) {
       result_.converged = true;
-      // the prepared sample, a new specimen: stored in Morton order above
-      // 1536 particles (dem/spatial_sort.h); the preparation itself ran in
-      // the cloud's order, so its course is unchanged
-      dem::order_new_specimen(result_.state);
     } else {
       result_.state = sim_->state();  // the last state reached, for diagnosis
       if (sim_->step(true)) result_.final = sim_->measures();
@@ -72,6 +68,9 @@ class Preparer {
     req.void_ratio = s_.initial_void_ratio;
     req.seed = s_.seed;
     dem::Cloud cloud = dem::generate_cloud(req);
+    // a new specimen: above 1536 particles in Morton order (dem/spatial_sort.h),
+    // before the first step, so the criteria are judged on the state saved
+    dem::order_new_specimen(cloud.particles, cloud.cell);
     dem::SimulationSettings ss;
     ss.material = s_.material;
     ss.material.friction = s_.mu1;

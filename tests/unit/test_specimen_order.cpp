@@ -161,3 +161,37 @@ TEST(SpecimenOrder, AGeneratedCloudStartsSortedWhenLarge) {
   EXPECT_EQ(big.particles().size(), 2000u);
   EXPECT_TRUE(in_space_order(big.particles(), big.cell()));
 }
+
+TEST(SpecimenOrder, AParticleListStartsSortedWhenLargeWithItsIds) {
+  // k^3 spheres on a grid, listed in a scrambled order (grid cell (37 i) mod n)
+  const auto list_scene = [](int k) {
+    const int n = k * k * k;
+    const double a = 3e-3;
+    std::ostringstream y;
+    y.precision(17);
+    y << "particles:\n  list:\n";
+    for (int i = 0; i < n; ++i) {
+      const int c = static_cast<int>((37LL * i) % n);
+      y << "    - {id: " << i << ", radius: 1.0e-3, position: [" << a * (c % k) << ", " << a * ((c / k) % k) << ", "
+        << a * (c / (k * k)) << "]}\n";
+    }
+    y << "cell:\n  lengths: [" << a * k << ", " << a * k << ", " << a * k << "]\n"
+      << "stages:\n  - {type: relax, stop: {steps: 10}}\n";
+    return io::parse_scene(y.str());
+  };
+  const dem::Simulation small = io::build_simulation(list_scene(10));  // 1000: as listed
+  ASSERT_EQ(small.particles().size(), 1000u);
+  for (std::size_t i = 0; i < 1000; ++i) ASSERT_EQ(small.particles().id[i], static_cast<std::int64_t>(i));
+  EXPECT_FALSE(in_space_order(small.particles(), small.cell()));
+  const dem::Simulation big = io::build_simulation(list_scene(12));  // 1728: sorted
+  const dem::Particles& p = big.particles();
+  ASSERT_EQ(p.size(), 1728u);
+  EXPECT_TRUE(in_space_order(p, big.cell()));
+  std::vector<char> seen(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    ASSERT_GE(p.id[i], 0);
+    ASSERT_LT(p.id[i], 1728);
+    seen[static_cast<std::size_t>(p.id[i])] = 1;
+  }
+  for (char s : seen) ASSERT_TRUE(s);  // every listed id, once
+}

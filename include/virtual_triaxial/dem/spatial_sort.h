@@ -45,9 +45,10 @@ void spatial_sort(Particles& p, const PeriodicCell& cell);
 void spatial_sort(SimulationState& s);
 
 /// The storage order of a NEW specimen: one generated from a scene's
-/// particle list or cloud (io::build_simulation), a prepared sample
-/// (sample preparation's converged state) and a packing imported from
-/// LAMMPS (triax_import). Never a sample file being loaded: a sample file
+/// particle list or cloud (io::build_simulation), the cloud a sample
+/// preparation starts from (so the prepared sample stays close to Morton
+/// order, and its criteria are judged on the state it saves) and a packing
+/// imported from LAMMPS (triax_import). Never a sample file being loaded: a sample file
 /// may hold a state saved mid-run that a protocol continues bit for bit
 /// (rig checkpoints, save_sample, last_good), and a resume continues the
 /// order of its state. A specimen of more than kSortFromParticles particles
@@ -56,8 +57,8 @@ void spatial_sort(SimulationState& s);
 /// space, not everywhere (generate_cloud returns particles by decreasing
 /// radius, spatially random). Measured on the shipped dense_4000.h5 as
 /// prepared before session 14 (triax_bench, 3 rounds, us per
-/// particle-step): as stored, two threads 0.107-0.109 (7878-9280 of
-/// 16 952 list entries cross the runs), one 0.080-0.082; sorted, two
+/// particle-step): as stored, two threads 0.107-0.109 (7878-9280 of its
+/// 16 952 list entries, 4.238 per particle, cross the runs), one 0.080-0.082; sorted, two
 /// 0.067-0.073 (1614-1621 cross), one 0.077-0.080. Smaller specimens run on
 /// one thread in cache, where the order costs nothing, and keep their order
 /// (and results) bit for bit. The threshold is fixed here, not derived from

@@ -2,7 +2,10 @@
 //   distribution  loose cloud (phase 1 of chapter 4.3.1) from the size
 //                 distribution, seed, aspect ratios and initial void ratio;
 //   list          the explicit particles in a cell of the given lengths;
-//   sample_file   a saved sample, continued exactly. Material (density,
+//                 (distribution and list: stored in Morton order above
+//                 1536 particles, dem::order_new_specimen, ids kept)
+//   sample_file   a saved sample, continued exactly, in its stored order
+//                 (never re-sorted). Material (density,
 //                 modulus, Poisson ratio) comes from the sample unless the
 //                 scene gives `material.density` / `material.young_modulus`:
 //                 those are scaled into the sample keeping every
