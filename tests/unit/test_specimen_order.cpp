@@ -2,7 +2,8 @@
 // a generated specimen of more than 1536 particles starts in Morton order,
 // carrying every particle's data and its contacts with it; a smaller one
 // keeps the generator's order; a sample file is loaded as stored, so a
-// state saved mid-run continues bit for bit.
+// state saved mid-run continues bit for bit; triax_import sorts a LAMMPS
+// packing it imports and, with --sort, re-stores a sample.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -15,8 +16,10 @@
 #include <unistd.h>
 #include <vector>
 
+#include "support/cli.h"
 #include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
+#include "virtual_triaxial/io/lammps_data_file.h"
 #include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/io/scene_builder.h"
 #include "virtual_triaxial/io/scene_parser.h"
@@ -194,4 +197,50 @@ TEST(SpecimenOrder, AParticleListStartsSortedWhenLargeWithItsIds) {
     seen[static_cast<std::size_t>(p.id[i])] = 1;
   }
   for (char s : seen) ASSERT_TRUE(s);  // every listed id, once
+}
+
+TEST(SpecimenOrder, TriaxImportSortsImportsAndReStoresSamples) {
+  const fs::path dir = vt::test::scratch_dir("specimen_order_import");
+  const auto import = [&](const std::string& args) { return vt::test::run_program("triax_import", args, dir); };
+  const dem::SimulationState reversed = reversed_dense_4000();
+  io::SampleMetadata meta;
+  meta.created_by = "test: dense_4000 reversed";
+  const fs::path in = dir / "reversed.h5", out = dir / "sorted.h5", again = dir / "again.h5";
+  io::write_sample(in.string(), reversed, meta);
+  // --sort: Morton order, every particle's data by id, contacts and metadata kept
+  vt::test::CliRun r = import("--sort " + in.string() + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  io::SampleMetadata got;
+  const dem::SimulationState sorted = io::read_sample(out.string(), &got);
+  EXPECT_EQ(got.created_by, meta.created_by);
+  EXPECT_TRUE(in_space_order(sorted.particles, dem::PeriodicCell(sorted.h, sorted.h_reference)));
+  dem::SimulationState expected = reversed;
+  dem::spatial_sort(expected);
+  ASSERT_TRUE(same_order(sorted.particles, expected.particles));
+  EXPECT_EQ(std::memcmp(sorted.particles.frac.data(), expected.particles.frac.data(),
+                        expected.particles.size() * sizeof(dem::Vec3)),
+            0);
+  ASSERT_EQ(sorted.contacts.size(), reversed.contacts.size());
+  EXPECT_EQ(std::memcmp(sorted.contacts.data(), reversed.contacts.data(),
+                        reversed.contacts.size() * sizeof(reversed.contacts[0])),
+            0);
+  // sorting the sorted file gives the same bytes
+  r = import("--sort " + out.string() + " --out " + again.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(vt::test::slurp(out), vt::test::slurp(again));
+  // --lammps: a 4000-particle packing is stored sorted
+  const fs::path data = dir / "reversed.data", imported = dir / "imported.h5";
+  io::write_lammps_data(data.string(), reversed);
+  r = import("--lammps " + data.string() + " --out " + imported.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const dem::SimulationState im = io::read_sample(imported.string());
+  ASSERT_EQ(im.particles.size(), 4000u);
+  EXPECT_TRUE(in_space_order(im.particles, dem::PeriodicCell(im.h, im.h_reference)));
+  // bad input: two modes, a missing file
+  r = import("--sort " + in.string() + " --lammps " + data.string() + " --out " + again.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("exactly one of"), std::string::npos) << r.err;
+  r = import("--sort " + (dir / "missing.h5").string() + " --out " + again.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("missing.h5"), std::string::npos) << r.err;
 }
