@@ -121,7 +121,8 @@ TEST(SpecimenOrder, ASampleFileLoadsAsStoredAndAMidRunStateContinuesBitForBit) {
   const fs::path dir = fs::temp_directory_path() / ("vt_specimen_order_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string start = (dir / "start.h5").string(), mid = (dir / "mid.h5").string();
-  io::write_sample(start, reversed_dense_4000(), io::SampleMetadata{});
+  const dem::SimulationState reversed = reversed_dense_4000();
+  io::write_sample(start, reversed, io::SampleMetadata{});
   const std::string protocol = read_text(fs::path(VT_SOURCE_DIR) / "config/protocols/drained_100kPa_4000.yaml");
   const std::string key = "sample_file: ../samples/dense_4000.h5";
   ASSERT_NE(protocol.find(key), std::string::npos);
@@ -132,7 +133,7 @@ TEST(SpecimenOrder, ASampleFileLoadsAsStoredAndAMidRunStateContinuesBitForBit) {
   };
   // loaded as stored
   dem::Simulation whole = io::build_simulation(scene_from(start));
-  EXPECT_TRUE(same_order(whole.particles(), reversed_dense_4000().particles));
+  EXPECT_TRUE(same_order(whole.particles(), reversed.particles));
   // 60 steps at once against 30, save, load, 30
   const double rate = 1e-4 / whole.time_scale().t0;
   whole.set_strain_rates({0.5 * rate, 0.5 * rate, -rate});

@@ -70,7 +70,7 @@ void randomize_velocities(dem::Particles& p, double speed, double spin, std::uin
 }
 
 dem::SimulationState spatially_sorted(dem::SimulationState s) {
-  dem::spatial_sort(s.particles, dem::PeriodicCell(s.h, s.h_reference));
+  dem::spatial_sort(s);
   return s;
 }
 
