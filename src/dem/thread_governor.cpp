@@ -26,18 +26,32 @@ void ThreadGovernor::limit_to_chunks(std::int32_t chunks) {
   *this = ThreadGovernor(capped, min_steps_, min_seconds_, exploit_, max_ratio_);
 }
 
-void ThreadGovernor::record_step(double seconds) {
+void ThreadGovernor::record_step(double seconds, bool regular) {
   if (max_ == 1) return;
-  ++block_steps_;
   ++steps_[slot(current_)];
+  const bool first_after_switch = switched_;
+  switched_ = false;
+  if (!regular || first_after_switch) return;  // counted, not timed
+  ++block_steps_;
   block_seconds_ += seconds;
   if (block_steps_ >= min_steps_ && block_seconds_ >= min_seconds_) end_block();
 }
 
 void ThreadGovernor::end_block() {
-  cost_[slot(current_)] = block_seconds_ / static_cast<double>(block_steps_);
+  // the count's cost: the lower of its last two blocks (one block slowed by
+  // something else, e.g. a hiccup of the host, does not flip the choice)
+  const double block = block_seconds_ / static_cast<double>(block_steps_);
+  double& previous = last_block_[slot(current_)];
+  cost_[slot(current_)] = previous > 0.0 ? std::min(block, previous) : block;
+  previous = block;
   block_steps_ = 0;
   block_seconds_ = 0;
+  const int before = current_;
+  choose_next();
+  switched_ = current_ != before;
+}
+
+void ThreadGovernor::choose_next() {
   if (cost_[0] == 0) {  // start: max_threads measured, now 1
     current_ = 1;
     return;

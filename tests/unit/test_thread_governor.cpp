@@ -1,8 +1,10 @@
 // Runtime thread count (dem/thread_governor.h): the governor keeps the count
 // whose measured cost per step is lower, notices a load that comes or goes
 // within exploit_blocks r + 1 blocks (r: cost ratio), spends at most
-// 1/(exploit_blocks + 1) of the time on the worse count, and a run whose
-// thread count it switches back and forth is bit-identical to a one-thread run.
+// 1/(exploit_blocks + 1) of the time on the worse count, is not flipped by
+// one slow block nor timed on steps whose cost is not the count's, and a run
+// whose thread count it switches back and forth is bit-identical to a
+// one-thread run.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -43,6 +45,41 @@ TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
   const std::int64_t max_before = g.steps_max();  // now 1 thread is probed after 30 blocks
   feed(g, 1600, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
   EXPECT_GE(g.steps_max() - max_before, 1600 - 1600 / 31 - 10);
+}
+
+TEST(ThreadGovernor, OneSlowBlockDoesNotFlipTheCountTwoDo) {
+  ThreadGovernor g(2, 10, 0.0, 15);
+  // two threads 1.2x cheaper; three blocks: two threads, one thread, two
+  // threads (10 steps each, and the first step after each change untimed)
+  feed(g, 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
+  EXPECT_EQ(g.steps_max(), 21);
+  ASSERT_EQ(g.threads(), 2);
+  // one block of two threads slowed to 1.5e-3 (a hiccup of the host)
+  feed(g, 10, [](int) { return 1.5e-3; });
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_NEAR(g.cost_max(), 1e-3, 1e-15);  // the lower of the last two blocks
+  // the slowdown lasts: the second slow block shows it
+  feed(g, 10, [](int) { return 1.5e-3; });
+  EXPECT_NEAR(g.cost_max(), 1.5e-3, 1e-15);
+  EXPECT_EQ(g.threads(), 1);
+}
+
+TEST(ThreadGovernor, StepsWhoseCostIsNotTheCountsAreCountedNotTimed) {
+  ThreadGovernor g(2, 10, 0.0, 15);
+  // a block of two threads: 10 timed steps of 1e-3 s and 3 list rebuilds of 1 s
+  for (int k = 0; k < 10; ++k) {
+    g.record_step(1e-3);
+    if (k % 4 == 0) g.record_step(1.0, false);
+  }
+  EXPECT_EQ(g.steps_max(), 13);
+  EXPECT_NEAR(g.cost_max(), 1e-3, 1e-15);
+  ASSERT_EQ(g.threads(), 1);  // start: now one thread
+  // the first step after the change of count (plans remade) is not timed either
+  g.record_step(5.0);
+  for (int k = 0; k < 10; ++k) g.record_step(2e-3);
+  EXPECT_EQ(g.steps_one(), 11);
+  EXPECT_NEAR(g.cost_one(), 2e-3, 1e-15);
+  EXPECT_EQ(g.threads(), 2);
 }
 
 TEST(ThreadGovernor, BlocksSpanTheMinimumWallTime) {

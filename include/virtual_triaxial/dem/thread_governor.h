@@ -10,12 +10,24 @@
 //     `min_block_seconds` of wall time (so a block spans several scheduler
 //     quanta);
 //   - cost c_T = block wall time / block steps, kept per candidate count
-//     T in {1, max_threads} (the latest block with that count);
+//     T in {1, max_threads}: the lower of the latest two blocks with that
+//     count, so one block slowed by something else (a hiccup of the host:
+//     session 15 saw one two-thread block in about 30 cost 1.1-1.4x the
+//     others) does not flip the count, while a lasting change shows in the
+//     second block;
+//   - only regular steps are timed: a step that rebuilt the neighbour list
+//     (record_step(s, false)) and the first step after a change of count
+//     (the thread plan is remade: thread_runs.h, split_sums.h) are counted
+//     but not timed. Their cost has nothing to do with the count, and a
+//     block that happens to hold one would otherwise look up to 10-20 %
+//     dearer, as much as two threads gain at N = 4000 (session 15:
+//     with them timed, the governor ran 28 % of a 16 670-step shear of
+//     dense_4000.h5 on one thread, whose steps cost 1.17x those on two);
 //   - probe: the first two blocks run max_threads, then 1; afterwards the
 //     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
 //     so that its cost is current (a load that came or went is seen within
-//     exploit_blocks r + 1 blocks).
+//     exploit_blocks r + 2 blocks).
 // The probes take at most 1/(exploit_blocks + 1) of the run's wall time
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
 // 1-thread block, and a fixed spacing then lets the probes dominate).
@@ -55,10 +67,13 @@ class ThreadGovernor {
   /// Thread count for the next step.
   int threads() const { return current_; }
   /// Account one step of `seconds` wall time (run with threads()).
-  void record_step(double seconds);
+  /// regular = false: a step whose cost is not the count's (it rebuilt the
+  /// neighbour list); counted, not timed.
+  void record_step(double seconds, bool regular = true);
 
   int max_threads() const { return max_; }
-  /// Latest cost per step [s] with 1 and with max_threads (0 = not measured).
+  /// Cost per step [s] with 1 and with max_threads, the lower of the latest
+  /// two blocks with that count (0 = not measured).
   double cost_one() const { return cost_[0]; }
   double cost_max() const { return cost_[1]; }
   /// Steps run so far with 1 thread and with max_threads.
@@ -68,6 +83,7 @@ class ThreadGovernor {
  private:
   int slot(int t) const { return t == 1 ? 0 : 1; }
   void end_block();
+  void choose_next();  ///< the count of the next block
 
   int max_;
   std::int64_t min_steps_;
@@ -78,8 +94,10 @@ class ThreadGovernor {
   std::int64_t block_steps_ = 0;
   double block_seconds_ = 0;
   double cost_[2] = {0, 0};
+  double last_block_[2] = {0, 0};  ///< cost per step of the latest block with each count
   std::int64_t steps_[2] = {0, 0};
   int blocks_since_probe_ = 0;
+  bool switched_ = false;  ///< the next step is the first after a change of count
 };
 
 }  // namespace vt::dem
