@@ -228,20 +228,25 @@ std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
     return pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0 ||
            (spheroids_ && pairs_.spheroid[e].cache.valid);
   };
-  std::size_t count = 0;  // sized first: an entry is large and the runners copy the state every sample
-  for (std::int32_t e = 0; e < (offsets_.empty() ? 0 : offsets_.back()); ++e) count += kept(e) ? 1 : 0;
-  std::vector<ContactHistory> out;
-  out.reserve(count);
+  // Ordered by (id_a, id_b), unique keys: the keys and entries are sorted
+  // first and each history is written once in that order (a history is
+  // large, and the runners take the state at every sample).
+  struct Key {
+    std::int64_t id_a, id_b;
+    std::int32_t entry;
+  };
+  std::vector<Key> keys;
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
-    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e) {
-      if (!kept(e)) continue;
-      const bool cached = spheroids_ && pairs_.spheroid[e].cache.valid;
-      out.push_back({p.id[i], p.id[pairs_.partner[e]], pairs_.spring[e],
-                     cached ? pairs_.spheroid[e].cache : SpheroidContactCache{}});
-    }
-  std::sort(out.begin(), out.end(), [](const ContactHistory& a, const ContactHistory& b) {
-    return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
-  });
+    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e)
+      if (kept(e)) keys.push_back({p.id[i], p.id[pairs_.partner[e]], e});
+  std::sort(keys.begin(), keys.end(),
+            [](const Key& a, const Key& b) { return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b; });
+  std::vector<ContactHistory> out;
+  out.reserve(keys.size());
+  for (const Key& k : keys) {
+    const bool cached = spheroids_ && pairs_.spheroid[k.entry].cache.valid;
+    out.push_back({k.id_a, k.id_b, pairs_.spring[k.entry], cached ? pairs_.spheroid[k.entry].cache : SpheroidContactCache{}});
+  }
   return out;
 }
 

@@ -1,0 +1,98 @@
+// Axis stiffness of the packing for the servo (dem/axis_stiffness.h):
+//   M_i = (1/V) sum_c d_i^2 (K_n n_i^2 + K_t (1 - n_i^2)),  K_n = 3/2 F_n / delta
+// (eq. 115-116), K_t = 2(1-nu)/(2-nu) K_n (eq. 114). On two Hertz spheres
+// pressed together along an axis and along a diagonal, M equals the closed
+// form K_n = 2 E* sqrt(R* delta) (Hertz tangent stiffness); on a packing,
+// the block-wise sum (contacts listed first, then summed) equals the plain
+// loop over the list entries bit for bit.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "support/scenes.h"
+#include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/dem/simulation.h"
+
+using namespace vt::dem;
+
+namespace {
+
+constexpr double kL = 0.05;  // cell edge [m]
+
+/// Two spheres of radius r at rest, overlapping by delta along the unit
+/// direction u (fractional offsets in a cubic cell of edge kL), forces evaluated.
+Simulation pressed_pair(double r, double delta, const Vec3& u) {
+  Particles p;
+  p.add_sphere(0, r, 2650.0, {0.5, 0.5, 0.5});
+  const double gap = (2 * r - delta) / kL;
+  p.add_sphere(1, r, 2650.0, {0.5 + gap * u.x, 0.5 + gap * u.y, 0.5 + gap * u.z});
+  Simulation sim(std::move(p), PeriodicCell(Vec3{kL, kL, kL}), vt::test::undamped(0.01));
+  EXPECT_TRUE(sim.step(true));
+  return sim;
+}
+
+}  // namespace
+
+TEST(AxisStiffness, TwoHertzSpheresGiveTheClosedForm) {
+  const Material m = vt::test::test_material();
+  const double r = 1e-3, delta = 2e-6;
+  const double e_star = m.young / (2 * (1 - m.poisson * m.poisson));  // two equal materials
+  const double kn = 2.0 * e_star * std::sqrt(0.5 * r * delta);  // R* = r/2
+  const double kt = 2 * (1 - m.poisson) / (2 - m.poisson) * kn;
+  const double d = 2 * r - delta, volume = kL * kL * kL;
+  // along x: only M_x, from the normal stiffness
+  const Vec3 mx = axis_stiffness(pressed_pair(r, delta, {1, 0, 0}));
+  EXPECT_NEAR(mx.x, d * d * kn / volume, 1e-6 * d * d * kn / volume);
+  EXPECT_EQ(mx.y, 0.0);
+  EXPECT_EQ(mx.z, 0.0);
+  // along the xy diagonal: n_x^2 = n_y^2 = 1/2, d_x^2 = d^2/2, half normal, half tangential
+  const double s = std::sqrt(0.5);
+  const Vec3 md = axis_stiffness(pressed_pair(r, delta, {s, s, 0}));
+  const double expected = 0.5 * d * d * (0.5 * kn + 0.5 * kt) / volume;
+  EXPECT_NEAR(md.x, expected, 1e-6 * expected);
+  EXPECT_NEAR(md.y, expected, 1e-6 * expected);
+  EXPECT_EQ(md.z, 0.0);
+  // apart: nothing
+  Particles p;
+  p.add_sphere(0, r, 2650.0, {0.3, 0.5, 0.5});
+  p.add_sphere(1, r, 2650.0, {0.7, 0.5, 0.5});
+  Simulation apart(std::move(p), PeriodicCell(Vec3{kL, kL, kL}), vt::test::undamped(0.01));
+  ASSERT_TRUE(apart.step(true));
+  const Vec3 none = axis_stiffness(apart);
+  EXPECT_EQ(none.x + none.y + none.z, 0.0);
+}
+
+TEST(AxisStiffness, BlockwiseSumEqualsThePlainLoopBitForBit) {
+  // a compressed cloud of 1500 spheres: several blocks of 1024 entries, some in contact
+  vt::test::CloudScene sc = vt::test::polydisperse_cloud(1500, 0.6, 5);
+  Simulation sim(std::move(sc.particles), sc.cell, vt::test::undamped(0.3));
+  const double rate = 1e-3 / sim.time_scale().t0;
+  sim.set_strain_rates({-rate, -rate, -rate});
+  ASSERT_EQ(sim.run(300), 300);
+  const NeighborList& list = sim.neighbor_list();
+  const PairData& pd = list.pairs();
+  const auto& off = list.offsets();
+  ASSERT_GT(off.back(), 3 * 1024);
+  std::int64_t contacts = 0;
+  const Material& mat = sim.settings().material;
+  const double kt_ratio = 2.0 * (1.0 - mat.poisson) / (2.0 - mat.poisson);
+  Vec3 plain{};
+  for (std::size_t i = 0; i + 1 < off.size(); ++i)
+    for (std::int32_t e = off[i]; e < off[i + 1]; ++e) {
+      const double h = pd.half_overlap[e];
+      if (h <= 0.0) continue;
+      ++contacts;
+      const Vec3 d = sim.cell().branch(sim.particles().frac[i], sim.particles().frac[pd.partner[e]]);
+      const double dist = norm(d);
+      const Vec3 n = (1.0 / dist) * d;
+      const double kn = 1.5 * dot(pd.force[e], n) / (2.0 * h);
+      const double kt = kt_ratio * kn;
+      for (int a = 0; a < 3; ++a) plain[a] += d[a] * d[a] * (kn * n[a] * n[a] + kt * (1.0 - n[a] * n[a]));
+    }
+  ASSERT_GT(contacts, 500);
+  plain = (1.0 / sim.cell().volume()) * plain;
+  const Vec3 m = axis_stiffness(sim);
+  EXPECT_EQ(m.x, plain.x);
+  EXPECT_EQ(m.y, plain.y);
+  EXPECT_EQ(m.z, plain.z);
+}
