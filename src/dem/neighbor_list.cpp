@@ -236,6 +236,7 @@ std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
     std::int32_t entry;
   };
   std::vector<Key> keys;
+  keys.reserve(offsets_.empty() ? 0 : static_cast<std::size_t>(offsets_.back()));
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e)
       if (kept(e)) keys.push_back({p.id[i], p.id[pairs_.partner[e]], e});

@@ -31,21 +31,30 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
   ++steps_[slot(current_)];
   const bool first_after_switch = switched_;
   switched_ = false;
-  if (!regular || first_after_switch) return;  // counted, not timed
+  // counted, not timed; but a block whose steps are all irregular (every
+  // step rebuilds the list) is timed after kMaxUntimed of them, so it ends
+  if ((!regular || first_after_switch) && untimed_ < kMaxUntimed * min_steps_) {
+    ++untimed_;
+    return;
+  }
   ++block_steps_;
   block_seconds_ += seconds;
   if (block_steps_ >= min_steps_ && block_seconds_ >= min_seconds_) end_block();
 }
 
 void ThreadGovernor::end_block() {
-  // the count's cost: the lower of its last two blocks (one block slowed by
-  // something else, e.g. a hiccup of the host, does not flip the choice)
+  // The count's cost: the lower of this block and the one before when that
+  // ran the same count (one block slowed by something else, e.g. a hiccup
+  // of the host, does not flip the choice); a probe block (the other count
+  // ran before it) gives its own cost, however old that count's last block.
   const double block = block_seconds_ / static_cast<double>(block_steps_);
-  double& previous = last_block_[slot(current_)];
-  cost_[slot(current_)] = previous > 0.0 ? std::min(block, previous) : block;
-  previous = block;
+  const int s = slot(current_);
+  cost_[s] = previous_block_ > 0.0 && previous_slot_ == s ? std::min(block, previous_block_) : block;
+  previous_block_ = block;
+  previous_slot_ = s;
   block_steps_ = 0;
   block_seconds_ = 0;
+  untimed_ = 0;
   const int before = current_;
   choose_next();
   switched_ = current_ != before;

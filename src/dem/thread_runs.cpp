@@ -9,22 +9,11 @@ namespace vt::dem {
 
 void ThreadRuns::prepare(std::int32_t nchunks, std::size_t n, int threads) {
   if (current(nchunks, n, threads)) return;
-  if (nchunks != nchunks_ || n != n_) {
-    learned_.clear();  // cuts of another specimen
-  } else if (threads_ >= 2) {
-    learned_.resize(std::max(learned_.size(), static_cast<std::size_t>(threads_) + 1));
-    learned_[static_cast<std::size_t>(threads_)] = bounds_;  // back to this count: this cut again
-  }
   nchunks_ = nchunks;
   n_ = n;
   threads_ = threads;
-  const auto tc = static_cast<std::size_t>(threads);
-  if (tc < learned_.size() && learned_[tc].size() == tc + 1) {
-    bounds_ = learned_[tc];
-  } else {
-    bounds_.assign(tc + 1, 0);
-    for (int t = 0; t < threads; ++t) bounds_[static_cast<std::size_t>(t) + 1] = chunk_run(nchunks, t, threads).second;
-  }
+  bounds_.assign(static_cast<std::size_t>(threads) + 1, 0);
+  for (int t = 0; t < threads; ++t) bounds_[static_cast<std::size_t>(t) + 1] = chunk_run(nchunks, t, threads).second;
   busy_.assign(static_cast<std::size_t>(threads), Busy{});
   window_steps_ = 0;
   ++version_;

@@ -1,6 +1,6 @@
 // Runtime thread count (dem/thread_governor.h): the governor keeps the count
 // whose measured cost per step is lower, notices a load that comes or goes
-// within exploit_blocks r + 1 blocks (r: cost ratio), spends at most
+// within exploit_blocks r + 2 blocks (r: cost ratio), spends at most
 // 1/(exploit_blocks + 1) of the time on the worse count, is not flipped by
 // one slow block nor timed on steps whose cost is not the count's, and a run
 // whose thread count it switches back and forth is bit-identical to a
@@ -64,6 +64,20 @@ TEST(ThreadGovernor, OneSlowBlockDoesNotFlipTheCountTwoDo) {
   EXPECT_EQ(g.threads(), 1);
 }
 
+TEST(ThreadGovernor, AProbeBlockGivesItsOwnCost) {
+  ThreadGovernor g(2, 10, 0.0, 2, 64.0);  // a probe after 2 r blocks
+  // start: two threads 1e-3, one thread 1.2e-3 (two blocks), then two threads
+  feed(g, 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
+  ASSERT_EQ(g.threads(), 2);
+  // one thread gets 40x dearer: its next probe block alone sets its cost
+  // (not the lower of it and the older, cheap block)
+  const std::int64_t one_before = g.steps_one();
+  while (g.steps_one() == one_before) feed(g, 1, [](int t) { return t == 1 ? 48e-3 : 1e-3; });
+  feed(g, 10, [](int t) { return t == 1 ? 48e-3 : 1e-3; });
+  EXPECT_NEAR(g.cost_one(), 48e-3, 1e-15);
+  EXPECT_EQ(g.threads(), 2);
+}
+
 TEST(ThreadGovernor, StepsWhoseCostIsNotTheCountsAreCountedNotTimed) {
   ThreadGovernor g(2, 10, 0.0, 15);
   // a block of two threads: 10 timed steps of 1e-3 s and 3 list rebuilds of 1 s
@@ -80,6 +94,12 @@ TEST(ThreadGovernor, StepsWhoseCostIsNotTheCountsAreCountedNotTimed) {
   EXPECT_EQ(g.steps_one(), 11);
   EXPECT_NEAR(g.cost_one(), 2e-3, 1e-15);
   EXPECT_EQ(g.threads(), 2);
+  // every step rebuilds the list: after kMaxUntimed x 10 untimed steps the
+  // block times what it gets, so it still ends
+  ThreadGovernor busy(2, 10, 0.0, 15);
+  for (int k = 0; k < ThreadGovernor::kMaxUntimed * 10 + 10; ++k) busy.record_step(3e-3, false);
+  EXPECT_EQ(busy.threads(), 1);
+  EXPECT_NEAR(busy.cost_max(), 3e-3, 1e-15);
 }
 
 TEST(ThreadGovernor, BlocksSpanTheMinimumWallTime) {

@@ -105,29 +105,3 @@ TEST(ThreadRuns, EveryThreadKeepsAChunkWhenOneIsFarSlower) {
   expect_tiling(r);
   EXPECT_EQ(r.run(0).second - r.run(0).first, 1);
 }
-
-TEST(ThreadRuns, ACountThatRanBeforeTakesItsLastCutAgain) {
-  // the governor (thread_governor.h) probes one thread for a block and comes
-  // back: two threads resume the cut they had learned, not equal runs
-  ThreadRuns r;
-  const std::size_t n = 100000;
-  const std::int32_t chunks = vt::dem::chunk_count(n);
-  r.prepare(chunks, n, 2);
-  window(r, n, {2e-7, 1e-7});  // thread 0 twice as slow: about 1/3 of the particles
-  ASSERT_EQ(r.recuts(), 1);
-  const auto learned = r.run(0);
-  ASSERT_NE(learned, vt::dem::chunk_run(chunks, 0, 2));
-  r.prepare(chunks, n, 1);
-  EXPECT_EQ(r.run(0), std::make_pair(0, chunks));
-  const std::int64_t v = r.version();
-  r.prepare(chunks, n, 2);
-  EXPECT_NE(r.version(), v);  // the runs changed: plans made for them are remade
-  EXPECT_EQ(r.run(0), learned);
-  expect_tiling(r);
-  // another specimen (other N): equal runs again, also after coming back
-  const std::size_t m = 60000;
-  r.prepare(vt::dem::chunk_count(m), m, 2);
-  EXPECT_EQ(r.run(0), vt::dem::chunk_run(vt::dem::chunk_count(m), 0, 2));
-  r.prepare(chunks, n, 2);
-  EXPECT_EQ(r.run(0), vt::dem::chunk_run(chunks, 0, 2));
-}

@@ -10,20 +10,23 @@
 //     `min_block_seconds` of wall time (so a block spans several scheduler
 //     quanta);
 //   - cost c_T = block wall time / block steps, kept per candidate count
-//     T in {1, max_threads}: the lower of the latest two blocks with that
-//     count, so one block slowed by something else (a hiccup of the host:
-//     session 15 saw one two-thread block in about 30 cost 1.1-1.4x the
-//     others) does not flip the count, while a lasting change shows in the
-//     second block;
+//     T in {1, max_threads}: the latest block with that count, or the lower
+//     of the latest two when both ran back to back (so one block slowed by
+//     something else does not flip the count: session 15 saw about one
+//     two-thread block in 30 cost 1.1-1.4x the others, a hiccup of the
+//     host; a lasting change shows in the second block). A probe block
+//     (below) gives its count's cost alone;
 //   - only regular steps are timed: a step that rebuilt the neighbour list
-//     (record_step(s, false)) and the first step after a change of count
-//     (the thread plan is remade: thread_runs.h, split_sums.h) are counted
-//     but not timed. Their cost has nothing to do with the count, and a
-//     block that happens to hold one would otherwise look up to 10-20 %
-//     dearer, as much as two threads gain at N = 4000 (session 15:
-//     with them timed, the governor ran 28 % of a 16 670-step shear of
-//     dense_4000.h5 on one thread, whose steps cost 1.17x those on two);
-//   - probe: the first two blocks run max_threads, then 1; afterwards the
+//     (record_step(s, false): rebuilds come at irregular intervals and cost
+//     several steps, so a block that happens to hold one looks dearer than
+//     its count is) and the first step after a change of count (it refills
+//     the ghost springs, split_sums.h) are counted but not timed, up to
+//     kMaxUntimed min_block_steps per block (a run that rebuilds at every
+//     step is timed as it is). Session 15, a 16 670-step shear of
+//     dense_4000.h5 on two vCPUs whose steps cost 1.12x more on one thread
+//     than on two: with those steps timed and one block per count, the
+//     governor ran 28 % of the steps on one thread, now 5-12 % (3 runs);
+//   - probe: the first block runs max_threads, the second 1; afterwards the
 //     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
 //     so that its cost is current (a load that came or went is seen within
@@ -53,6 +56,8 @@ namespace vt::dem {
 class ThreadGovernor {
  public:
   static constexpr std::int32_t kMinChunksPerThread = 2;
+  /// Untimed steps a block may hold, in units of min_block_steps.
+  static constexpr std::int64_t kMaxUntimed = 4;
 
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
                           int exploit_blocks = 15, double max_spacing_ratio = 64.0);
@@ -72,8 +77,8 @@ class ThreadGovernor {
   void record_step(double seconds, bool regular = true);
 
   int max_threads() const { return max_; }
-  /// Cost per step [s] with 1 and with max_threads, the lower of the latest
-  /// two blocks with that count (0 = not measured).
+  /// Cost per step [s] with 1 and with max_threads, as described above (0 =
+  /// not measured).
   double cost_one() const { return cost_[0]; }
   double cost_max() const { return cost_[1]; }
   /// Steps run so far with 1 thread and with max_threads.
@@ -94,7 +99,9 @@ class ThreadGovernor {
   std::int64_t block_steps_ = 0;
   double block_seconds_ = 0;
   double cost_[2] = {0, 0};
-  double last_block_[2] = {0, 0};  ///< cost per step of the latest block with each count
+  double previous_block_ = 0;  ///< cost per step of the latest block (0: none yet)
+  int previous_slot_ = 0;      ///< its count's slot
+  std::int64_t untimed_ = 0;   ///< steps of this block counted but not timed
   std::int64_t steps_[2] = {0, 0};
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count

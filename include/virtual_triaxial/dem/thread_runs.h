@@ -5,13 +5,7 @@
 // then waits at every barrier).
 //
 // Thread t of T takes chunks [b_t, b_t+1). Start, and whenever the chunk
-// count or N changes: equal runs (chunk_run, chunked.h). When only T
-// changes (the thread governor, thread_governor.h, probes one thread for a
-// block and comes back), a count that ran before on the same chunks takes
-// its last cut again instead of equal runs, which it would have to re-learn
-// over a window (measured on dense_4000.h5, session 15: the first
-// two-thread block after a probe cost 1.12x the others, as much as two
-// threads gain there). Every step each
+// count, N or T changes: equal runs (chunk_run, chunked.h). Every step each
 // thread adds the wall time it spent on its own run (record; not its waits
 // at barriers). A window closes after at least kWindowSteps steps with at
 // least kWindowSeconds of work on the busiest thread; then, with
@@ -39,9 +33,7 @@ class ThreadRuns {
   static constexpr double kMinGain = 0.03;
 
   /// Runs for n particles in nchunks chunks on `threads` threads: kept when
-  /// all three are unchanged; the last cut of `threads` threads when only
-  /// the thread count changed and that count ran before on these chunks;
-  /// else equal runs. Call serially.
+  /// all three are unchanged, else equal runs. Call serially.
   void prepare(std::int32_t nchunks, std::size_t n, int threads);
   /// Whether prepare(nchunks, n, threads) would keep the runs.
   bool current(std::int32_t nchunks, std::size_t n, int threads) const {
@@ -69,8 +61,6 @@ class ThreadRuns {
   std::size_t n_ = 0;
   int threads_ = 0;
   std::vector<std::int32_t> bounds_{0, 0};
-  /// learned_[T]: the last cut of T threads on these chunks (empty: none)
-  std::vector<std::vector<std::int32_t>> learned_;
   struct alignas(64) Busy {  // one cache line per thread
     double seconds = 0.0;
   };
