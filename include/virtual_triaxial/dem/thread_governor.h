@@ -25,7 +25,7 @@
 //     step is timed as it is). Session 15, a 16 670-step shear of
 //     dense_4000.h5 on two vCPUs whose steps cost 1.12x more on one thread
 //     than on two: with those steps timed and one block per count, the
-//     governor ran 28 % of the steps on one thread, now 5-12 % (3 runs);
+//     governor ran 12-28 % of the steps on one thread, now 5-12 % (8 runs);
 //   - probe: the first block runs max_threads, the second 1; afterwards the
 //     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
