@@ -23,7 +23,7 @@
 //     the ghost springs, split_sums.h) are counted but not timed, up to
 //     kMaxUntimed min_block_steps per block (a run that rebuilds at every
 //     step is timed as it is). Session 15, a 16 670-step shear of
-//     dense_4000.h5 on two vCPUs whose steps cost 1.12x more on one thread
+//     dense_4000.h5 on two vCPUs whose steps cost 1.11x more on one thread
 //     than on two: with those steps timed and one block per count, the
 //     governor ran 12-28 % of the steps on one thread, now 5-12 % (8 runs);
 //   - probe: the first block runs max_threads, the second 1; afterwards the
