@@ -31,6 +31,11 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
   ++steps_[slot(current_)];
   const bool first_after_switch = switched_;
   switched_ = false;
+  if (warming_) {  // the run's first block pays for the start: counted, not timed
+    warm_seconds_ += seconds;
+    if (++warm_steps_ >= min_steps_ && warm_seconds_ >= min_seconds_) warming_ = false;
+    return;
+  }
   // counted, not timed; but a block whose steps are all irregular (every
   // step rebuilds the list) is timed after kMaxUntimed of them, so it ends
   if ((!regular || first_after_switch) && untimed_ < kMaxUntimed * min_steps_) {

@@ -1,5 +1,6 @@
 // Runtime thread count (dem/thread_governor.h): the governor keeps the count
-// whose measured cost per step is lower, notices a load that comes or goes
+// whose measured cost per step is lower (the run's first block, which pays
+// for the start, not timed), notices a load that comes or goes
 // within exploit_blocks r + 2 blocks (r: cost ratio), spends at most
 // 1/(exploit_blocks + 1) of the time on the worse count, is not flipped by
 // one slow block nor timed on steps whose cost is not the count's, and a run
@@ -33,10 +34,11 @@ TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
   feed(g, 3200, [](int t) { return t == 1 ? 1e-3 : 3e-3; });
   EXPECT_NEAR(g.cost_one(), 1e-3, 1e-15);
   EXPECT_NEAR(g.cost_max(), 3e-3, 1e-15);
-  // after the two start blocks, one probe block of 10 steps after every
-  // 15 x 3 = 45 blocks: the probes take 3/(45 + 3) = 1/16 of the time
-  EXPECT_LE(g.steps_max(), 10 + 3200 / 46 + 10);
-  EXPECT_GE(g.steps_one(), 3200 - (10 + 3200 / 46 + 10));
+  // after the untimed first block and the two start blocks, one probe block
+  // of 10 steps after every 15 x 3 = 45 blocks: the probes take 3/(45 + 3)
+  // = 1/16 of the time
+  EXPECT_LE(g.steps_max(), 10 + 10 + 3200 / 46 + 10);
+  EXPECT_GE(g.steps_one(), 3200 - (10 + 10 + 3200 / 46 + 10));
   // the load goes away: two threads twice as fast; found within 46 blocks
   const std::int64_t one_before = g.steps_one();
   feed(g, 470, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
@@ -47,12 +49,32 @@ TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
   EXPECT_GE(g.steps_max() - max_before, 1600 - 1600 / 31 - 10);
 }
 
+TEST(ThreadGovernor, TheRunsFirstBlockIsNotTimed) {
+  ThreadGovernor g(2, 10, 0.0, 15);
+  // the start makes the first block of two threads 2x dearer than two
+  // threads are (which are 1.6x cheaper than one)
+  feed(g, 10, [](int) { return 2e-3; });
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_EQ(g.cost_max(), 0.0);
+  // the start blocks (two threads, one thread), then 20 blocks: fewer than
+  // the 15 x 1.6 before the next probe
+  feed(g, 10 + 11 + 200, [](int t) { return t == 1 ? 1.6e-3 : 1e-3; });
+  EXPECT_NEAR(g.cost_max(), 1e-3, 1e-15);
+  EXPECT_NEAR(g.cost_one(), 1.6e-3, 1e-15);
+  // one thread ran its start probe only (11 steps: the first after the
+  // change untimed); timed, the first block (2e-3) would have made one
+  // thread the cheaper count and run it for 15 x 1.25 blocks
+  EXPECT_EQ(g.steps_one(), 11);
+  EXPECT_EQ(g.threads(), 2);
+}
+
 TEST(ThreadGovernor, OneSlowBlockDoesNotFlipTheCountTwoDo) {
   ThreadGovernor g(2, 10, 0.0, 15);
-  // two threads 1.2x cheaper; three blocks: two threads, one thread, two
-  // threads (10 steps each, and the first step after each change untimed)
-  feed(g, 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
-  EXPECT_EQ(g.steps_max(), 21);
+  // two threads 1.2x cheaper; the untimed first block, then three blocks:
+  // two threads, one thread, two threads (10 steps each, and the first step
+  // after each change untimed)
+  feed(g, 10 + 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
+  EXPECT_EQ(g.steps_max(), 31);
   ASSERT_EQ(g.threads(), 2);
   // one block of two threads slowed to 1.5e-3 (a hiccup of the host)
   feed(g, 10, [](int) { return 1.5e-3; });
@@ -66,8 +88,9 @@ TEST(ThreadGovernor, OneSlowBlockDoesNotFlipTheCountTwoDo) {
 
 TEST(ThreadGovernor, AProbeBlockGivesItsOwnCost) {
   ThreadGovernor g(2, 10, 0.0, 2, 64.0);  // a probe after 2 r blocks
-  // start: two threads 1e-3, one thread 1.2e-3 (two blocks), then two threads
-  feed(g, 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
+  // start: the untimed first block, two threads 1e-3, one thread 1.2e-3
+  // (two blocks), then two threads
+  feed(g, 10 + 10 + 11 + 11, [](int t) { return t == 1 ? 1.2e-3 : 1e-3; });
   ASSERT_EQ(g.threads(), 2);
   // one thread gets 40x dearer: its next probe block alone sets its cost
   // (not the lower of it and the older, cheap block)
@@ -80,12 +103,14 @@ TEST(ThreadGovernor, AProbeBlockGivesItsOwnCost) {
 
 TEST(ThreadGovernor, StepsWhoseCostIsNotTheCountsAreCountedNotTimed) {
   ThreadGovernor g(2, 10, 0.0, 15);
+  feed(g, 10, [](int) { return 1.0; });  // the run's first block: not timed
+  EXPECT_EQ(g.cost_max(), 0.0);
   // a block of two threads: 10 timed steps of 1e-3 s and 3 list rebuilds of 1 s
   for (int k = 0; k < 10; ++k) {
     g.record_step(1e-3);
     if (k % 4 == 0) g.record_step(1.0, false);
   }
-  EXPECT_EQ(g.steps_max(), 13);
+  EXPECT_EQ(g.steps_max(), 23);
   EXPECT_NEAR(g.cost_max(), 1e-3, 1e-15);
   ASSERT_EQ(g.threads(), 1);  // start: now one thread
   // the first step after the change of count (plans remade) is not timed either
@@ -97,14 +122,17 @@ TEST(ThreadGovernor, StepsWhoseCostIsNotTheCountsAreCountedNotTimed) {
   // every step rebuilds the list: after kMaxUntimed x 10 untimed steps the
   // block times what it gets, so it still ends
   ThreadGovernor busy(2, 10, 0.0, 15);
-  for (int k = 0; k < ThreadGovernor::kMaxUntimed * 10 + 10; ++k) busy.record_step(3e-3, false);
+  for (int k = 0; k < 10 + ThreadGovernor::kMaxUntimed * 10 + 10; ++k) busy.record_step(3e-3, false);
   EXPECT_EQ(busy.threads(), 1);
   EXPECT_NEAR(busy.cost_max(), 3e-3, 1e-15);
 }
 
 TEST(ThreadGovernor, BlocksSpanTheMinimumWallTime) {
   ThreadGovernor g(2, 1, 0.05, 15);
-  feed(g, 8, [](int) { return 0.006; });  // 48 ms: still the first block
+  feed(g, 9, [](int) { return 0.006; });  // 54 ms: the untimed first block
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_EQ(g.cost_max(), 0.0);
+  feed(g, 8, [](int) { return 0.006; });  // 48 ms: still the first timed block
   EXPECT_EQ(g.threads(), 2);
   feed(g, 1, [](int) { return 0.006; });
   EXPECT_EQ(g.threads(), 1);

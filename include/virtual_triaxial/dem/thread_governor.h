@@ -26,7 +26,14 @@
 //     dense_4000.h5 on two vCPUs whose steps cost 1.11x more on one thread
 //     than on two: with those steps timed and one block per count, the
 //     governor ran 12-28 % of the steps on one thread, now 5-12 % (8 runs);
-//   - probe: the first block runs max_threads, the second 1; afterwards the
+//   - start: the run's first block (min_block_steps and min_block_seconds,
+//     on max_threads) is counted, not timed: it pays for the start (the
+//     team's threads, the thread runs' first cut by speed, thread_runs.h,
+//     the first touch of the sums' pages). Session 16: timed, it made the
+//     first two-thread block of a 3470-step shear of dense_4000.h5 cost 346
+//     us per step against 186-190 for every later one, so the one-thread
+//     probe (339) won and 1184 of the 3470 steps ran on one thread;
+//   - probe: the first timed block runs max_threads, the second 1; afterwards the
 //     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
 //     so that its cost is current (a load that came or went is seen within
@@ -105,6 +112,9 @@ class ThreadGovernor {
   std::int64_t steps_[2] = {0, 0};
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count
+  bool warming_ = true;    ///< in the run's first block (counted, not timed)
+  std::int64_t warm_steps_ = 0;
+  double warm_seconds_ = 0;
 };
 
 }  // namespace vt::dem
