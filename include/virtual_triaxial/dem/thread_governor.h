@@ -40,7 +40,13 @@
 //     exploit_blocks r + 2 blocks).
 // The probes take at most 1/(exploit_blocks + 1) of the run's wall time
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
-// 1-thread block, and a fixed spacing then lets the probes dominate).
+// 1-thread block, and a fixed spacing then lets the probes dominate), and
+// cost (r - 1)/(exploit_blocks r + 1) of it. exploit_blocks defaults to 30
+// (session 16; 15 before): with one busy process beside 12 000 spheres
+// (r ~ 2.5), 15 gave the probes about 5 % of the time, the measured
+// excess of `auto` over one thread; 30 halves it, and a load that went
+// away is still seen within 30 r + 2 blocks (at 12 000 spheres, blocks of
+// 20 ms: 1.5 s for r = 2.5).
 // With max_threads == 1 it never changes anything.
 //
 // Too little work for the threads: a thread takes whole 512-particle chunks
@@ -67,7 +73,7 @@ class ThreadGovernor {
   static constexpr std::int64_t kMaxUntimed = 4;
 
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
-                          int exploit_blocks = 15, double max_spacing_ratio = 64.0);
+                          int exploit_blocks = 30, double max_spacing_ratio = 64.0);
 
   /// Threads worth running on `chunks` chunks: min(max_threads, chunks /
   /// kMinChunksPerThread), at least 1.
