@@ -164,16 +164,18 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // the same path (a team smaller than planned remakes it).
   const int planned_team = omp_get_max_threads();
   const std::int64_t stamp = ++steps_;
-  const bool plan_current = runs_.current(nchunks, n, planned_team) &&
-                            (spheroids || split_.current(list, n, runs_, stamp));
+  const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_, stamp);
   split_used_ = false;  // set by a team of several on the sphere path
   bool* split_used = &split_used_;
+  bool plan_used = false;  // set by a team of several (both paths)
   const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
   // One parallel region. One thread: the pair loop sums per particle itself,
   // in list order (or the gather after it). Several: spheres, each thread's
   // pair loop sums its run's particles, with ghosts (split_sums.h), no
-  // barrier; spheroids, pairs, barrier, then every particle gathers.
+  // barrier; spheroids, each thread's pair loop sums its run's particles
+  // too (no ghosts: their pairs are dear), barrier, then the particles of
+  // pairs that cross runs (SplitSums::edge_particles) gather.
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -198,30 +200,42 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
       // and the sums, so it mostly reads the particles it wrote itself.
-      // Spheres: ghosts, no gather (split_sums.h); spheroids gather every
-      // particle (their pair loop is dearer per contact).
+      // Spheres: ghosts, no gather (split_sums.h); spheroids gather the
+      // particles of pairs crossing runs (their pair loop is dearer per
+      // contact than a gather).
       if (!plan_current || team != planned_team) {
 #pragma omp single
         {
           runs->prepare(nchunks, n, team);
-          if (!spheroids) split->prepare(list, n, *runs, stamp);
+          split->prepare(list, n, *runs, stamp);
         }
         // (implicit barrier: the plan is ready)
       }
       const int t = omp_get_thread_num();
+      if (t == 0) plan_used = true;
       const auto [c0, c1] = runs->run(t);
       double start = omp_get_wtime();
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
       if (spheroids) {
+        // home: particles [i0, i1); the pair loop sums them as on one
+        // thread, and those with a pair crossing runs are gathered again
+        // once every run's pairs are in (SplitSums::edge_particles)
         refresh_bodies(i0, i1);
+        std::fill(fout + i0, fout + i1, Vec3{});
+        std::fill(tout + i0, tout + i1, Vec3{});
         double busy = omp_get_wtime() - start;
 #pragma omp barrier
         start = omp_get_wtime();
-        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(c);
+        PairInputs own = in;
+        own.force_out = fout;
+        own.torque_out = tout;
+        own.own_begin = i0;
+        own.own_span = static_cast<std::uint32_t>(i1 - i0);
+        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(kernel, own, c);
         busy += omp_get_wtime() - start;
 #pragma omp barrier
         const double summing = omp_get_wtime();
-        for (std::int32_t i = i0; i < i1; ++i) gather_spheroid(i);
+        for (const std::int32_t i : split->edge_particles(t)) gather_spheroid(i);
         runs->record(t, busy + (omp_get_wtime() - summing));
       } else {
         // home: particles [i0, i1); ghosts before, own chunks, ghosts after
@@ -248,7 +262,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       }
     }
   }
-  if (split_used_) split_.finish_step(stamp);
+  if (plan_used) split_.finish_step(stamp);
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);

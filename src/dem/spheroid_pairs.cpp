@@ -230,6 +230,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   std::int32_t law_e[kLawLanes];
   SpheroidWarmLanes lanes;
   std::int32_t lane_c[SpheroidWarmLanes::kLanes];
+  Vec3 sink_f, sink_t;  // the sums of partners that are not home
   const double tolerance = SpheroidContactOptions{}.step_tolerance;
   for (std::int32_t c0 = 0; c0 < nc; c0 += kBlock) {
     const std::int32_t c1 = std::min(nc, c0 + kBlock);
@@ -314,8 +315,13 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         if (in.force_out) {  // the gather's arithmetic, in the gather's order
           in.force_out[i] -= f;
           in.torque_out[i] += mi;
-          in.force_out[j] += f;
-          in.torque_out[j] += mj;
+          // a partner of another thread's run: gathered after the pair loops
+          // (SplitSums::edge_particles)
+          const bool home = static_cast<std::uint32_t>(j - in.own_begin) < in.own_span;
+          Vec3& fj = home ? in.force_out[j] : sink_f;
+          Vec3& tj = home ? in.torque_out[j] : sink_t;
+          fj += f;
+          tj += mj;
         }
         sums.add<Measure, Viscous>(L, k, f, dt);
       }

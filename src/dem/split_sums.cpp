@@ -1,5 +1,7 @@
 #include "virtual_triaxial/dem/split_sums.h"
 
+#include <algorithm>
+
 #include "virtual_triaxial/dem/chunked.h"
 
 namespace vt::dem {
@@ -43,6 +45,15 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     // before_ and after_ filled run by run of the owner: entry order too,
     // since runs are ranges of owners
     ghosts_ = static_cast<std::size_t>(slot);
+    edge_.assign(t_count, {});
+    for (std::size_t t = 0; t < t_count; ++t) {
+      std::vector<std::int32_t>& edge = edge_[t];
+      for (const std::int32_t e : boundary_[t]) edge.push_back(owners[static_cast<std::size_t>(e)]);
+      for (const auto* g : {&before_[t], &after_[t]})
+        for (const Ghost& x : *g) edge.push_back(partner[static_cast<std::size_t>(x.entry)]);
+      std::sort(edge.begin(), edge.end());
+      edge.erase(std::unique(edge.begin(), edge.end()), edge.end());
+    }
     for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
   }
   const std::vector<Vec3>& spring = list.pairs().spring;

@@ -15,7 +15,11 @@
 
 #include "support/scenes.h"
 #include "support/spheroid_scenes.h"
+#include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/split_sums.h"
+#include "virtual_triaxial/dem/thread_runs.h"
 #include "virtual_triaxial/io/sample_file.h"
 
 using namespace vt::dem;
@@ -76,6 +80,42 @@ TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
   omp_set_num_threads(before);
   expect_same_state(one.state(), three.state());
   expect_same_state(one_gather.state(), three.state());
+}
+
+TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
+  // 2 x 2 x 2 tiles of the loaded packing, sorted in space: 2400 spheroids
+  // in 5 chunks, so two and three threads take runs of whole chunks with
+  // pairs crossing them; each thread's pair loop sums its run and the
+  // particles of the crossing pairs are gathered after every run's pairs
+  // are in (SplitSums::edge_particles).
+  const SimulationState start =
+      vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
+  const std::size_t n = start.particles.size();
+  ASSERT_GT(n, 4u * static_cast<std::size_t>(kChunkSize));
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  Simulation one(start);
+  ASSERT_EQ(one.run(200), 200) << one.failure();
+  // the runs' crossings hold contacts, and their particles are few
+  ThreadRuns runs;
+  runs.prepare(chunk_count(n), n, 2);
+  SplitSums plan;
+  plan.prepare(one.neighbor_list(), n, runs, 1);
+  std::size_t edge = 0, crossing_contacts = 0;
+  for (int t = 0; t < 2; ++t) {
+    edge += plan.edge_particles(t).size();
+    for (const std::int32_t e : plan.boundary(t)) crossing_contacts += one.neighbor_list().pairs().active[e];
+  }
+  EXPECT_GT(crossing_contacts, 0u);
+  EXPECT_GT(edge, 0u);
+  EXPECT_LT(edge, n / 2) << "most particles are summed by their thread's pair loop alone";
+  for (const int threads : {2, 3}) {
+    omp_set_num_threads(threads);
+    Simulation more(start);
+    ASSERT_EQ(more.run(200), 200) << more.failure();
+    expect_same_state(one.state(), more.state());
+  }
+  omp_set_num_threads(before);
 }
 
 namespace {

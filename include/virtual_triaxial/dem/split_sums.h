@@ -61,6 +61,12 @@ class SplitSums {
   /// the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
+  /// The particles of run t that a pair crossing runs involves (owners of
+  /// boundary(t), partners of ghosts_before(t) and ghosts_after(t)),
+  /// ascending: their sums take pairs of other runs. The spheroid path
+  /// gathers them after every thread's pair loop (its pairs are too dear
+  /// to evaluate twice); each thread's pair loop makes the others' sums.
+  const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
   /// Springs at the start of this step, by ghost slot.
   const Vec3* ghost_springs() const { return spring_[read_].data(); }
   /// Where the owners put the springs of their boundary entries this step, by slot.
@@ -82,6 +88,7 @@ class SplitSums {
   std::size_t ghosts_ = 0;
   std::vector<std::vector<Ghost>> before_, after_;
   std::vector<std::vector<std::int32_t>> boundary_;
+  std::vector<std::vector<std::int32_t>> edge_;
   std::vector<std::int32_t> boundary_slot_;
   std::vector<Vec3> spring_[2];
   int read_ = 0;
