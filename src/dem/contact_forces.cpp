@@ -134,9 +134,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // for the entries of other particles), the one on the owner in the
   // spheroid pair state (own entries: consecutive in the list).
   const SpheroidPairState* sps = spheroids ? pd.spheroid.data() : nullptr;
-  const auto gather_spheroid = [&](std::int32_t i) {
-    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+  // `ahead` in [0, N]: the particle gathered kPrefetchParticles later,
+  // whose pair states are prefetched (N: none).
+  const auto gather_spheroid = [&](std::int32_t i, std::int32_t ahead) {
+    for (std::int32_t k = goff[ahead]; k < goff[std::min(ahead + 1, ni)]; ++k)
+      __builtin_prefetch(ps + (gcode[k] >> 2));
     Vec3 f{}, t{};
     std::int32_t g = goff[i];
     const std::int32_t g_end = goff[i + 1];
@@ -195,7 +197,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       if (spheroids) refresh_bodies(0, ni);
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
       if (!scatter)
-        for (std::int32_t i = 0; i < ni; ++i) spheroids ? gather_spheroid(i) : gather_sphere(i);
+        for (std::int32_t i = 0; i < ni; ++i)
+          spheroids ? gather_spheroid(i, std::min(i + kPrefetchParticles, ni)) : gather_sphere(i);
     } else {
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
@@ -235,7 +238,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         busy += omp_get_wtime() - start;
 #pragma omp barrier
         const double summing = omp_get_wtime();
-        for (const std::int32_t i : split->edge_particles(t)) gather_spheroid(i);
+        const std::vector<std::int32_t>& edge = split->edge_particles(t);
+        const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
+        for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
         runs->record(t, busy + (omp_get_wtime() - summing));
       } else {
         // home: particles [i0, i1); ghosts before, own chunks, ghosts after

@@ -65,12 +65,14 @@ struct PairInputs {
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
   const double* mass;
   double viscous_a;
-  // Sphere pair loop on several threads (the split kernel,
-  // sphere_pair_kernel): partners outside particles [own_begin, own_begin +
-  // own_span) take no sum here (their thread adds the pair as a ghost,
-  // split_sums.h).
+  // Several threads (the sphere split kernel, sphere_pair_kernel, and the
+  // spheroid kernel): partners outside particles [own_begin, own_begin +
+  // own_span) take no sum here (spheres: their thread adds the pair as a
+  // ghost; spheroids: their thread gathers them, split_sums.h).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
+  /// Whether particle j is summed here (in [own_begin, own_begin + own_span)).
+  bool home(std::int32_t j) const { return static_cast<std::uint32_t>(j - own_begin) < own_span; }
 };
 
 /// The viscous contact dashpots (viscous_contact_damping.h) of a pair of
@@ -150,8 +152,8 @@ struct ChunkSums {
 
 /// A pair kernel: evaluates the pairs owned by particles [i_begin, i_end)
 /// (list entries off[i_begin] .. off[i_end]), stores each entry's result in
-/// the list, adds to in.force_out / in.torque_out when set (the sphere
-/// kernel: to partners in [own_begin, own_begin + own_span) only), and
+/// the list, adds to in.force_out / in.torque_out when set (to partners
+/// in [own_begin, own_begin + own_span) only: PairInputs::home), and
 /// returns the chunk's sums. The last four arguments are per-thread scratch
 /// (ContactForces::Scratch).
 using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,

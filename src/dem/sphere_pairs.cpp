@@ -181,7 +181,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         in.force_out[i] -= f;
         in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
         // a partner of another thread: added there as a ghost (split_sums.h)
-        const bool home = !Split || static_cast<std::uint32_t>(j - in.own_begin) < in.own_span;
+        const bool home = !Split || in.home(j);
         Vec3& fj = home ? in.force_out[j] : sink_f;
         Vec3& tj = home ? in.torque_out[j] : sink_t;
         fj += f;

@@ -317,7 +317,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
           in.torque_out[i] += mi;
           // a partner of another thread's run: gathered after the pair loops
           // (SplitSums::edge_particles)
-          const bool home = static_cast<std::uint32_t>(j - in.own_begin) < in.own_span;
+          const bool home = in.home(j);
           Vec3& fj = home ? in.force_out[j] : sink_f;
           Vec3& tj = home ? in.torque_out[j] : sink_t;
           fj += f;

@@ -45,10 +45,10 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     // before_ and after_ filled run by run of the owner: entry order too,
     // since runs are ranges of owners
     ghosts_ = static_cast<std::size_t>(slot);
-    edge_.assign(t_count, {});
-    for (std::size_t t = 0; t < t_count; ++t) {
+    // edge particles: the spheroid path's only (the sphere path has ghosts)
+    edge_.assign(list.has_spheroids() ? t_count : 0, {});
+    for (std::size_t t = 0; t < edge_.size(); ++t) {
       std::vector<std::int32_t>& edge = edge_[t];
-      for (const std::int32_t e : boundary_[t]) edge.push_back(owners[static_cast<std::size_t>(e)]);
       for (const auto* g : {&before_[t], &after_[t]})
         for (const Ghost& x : *g) edge.push_back(partner[static_cast<std::size_t>(x.entry)]);
       std::sort(edge.begin(), edge.end());

@@ -7,8 +7,10 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <vector>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -92,30 +94,53 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
       vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
   const std::size_t n = start.particles.size();
   ASSERT_GT(n, 4u * static_cast<std::size_t>(kChunkSize));
-  const int before = omp_get_max_threads();
+  struct RestoreThreads {  // also when an assertion ends the test early
+    int count;
+    ~RestoreThreads() { omp_set_num_threads(count); }
+  } restore{omp_get_max_threads()};
   omp_set_num_threads(1);
   Simulation one(start);
   ASSERT_EQ(one.run(200), 200) << one.failure();
-  // the runs' crossings hold contacts, and their particles are few
-  ThreadRuns runs;
-  runs.prepare(chunk_count(n), n, 2);
-  SplitSums plan;
-  plan.prepare(one.neighbor_list(), n, runs, 1);
-  std::size_t edge = 0, crossing_contacts = 0;
-  for (int t = 0; t < 2; ++t) {
-    edge += plan.edge_particles(t).size();
-    for (const std::int32_t e : plan.boundary(t)) crossing_contacts += one.neighbor_list().pairs().active[e];
+  // edge particles of two and three runs: exactly each run's partners of
+  // pairs owned in another run, ascending; the crossings hold contacts, and
+  // their particles are few
+  const NeighborList& list = one.neighbor_list();
+  for (const int threads : {2, 3}) {
+    ThreadRuns runs;
+    runs.prepare(chunk_count(n), n, threads);
+    SplitSums plan;
+    plan.prepare(list, n, runs, 1);
+    std::vector<int> run_of(n);
+    for (int t = 0; t < threads; ++t)
+      for (std::int32_t c = runs.run(t).first; c < runs.run(t).second; ++c)
+        for (std::size_t p = static_cast<std::size_t>(c) * kChunkSize;
+             p < std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize); ++p)
+          run_of[p] = t;
+    std::size_t edge = 0, crossing_contacts = 0;
+    for (int t = 0; t < threads; ++t) {
+      std::vector<std::int32_t> expected;
+      for (std::size_t e = 0; e < list.pairs().size(); ++e) {
+        const std::int32_t p = list.pairs().partner[e];
+        if (run_of[static_cast<std::size_t>(p)] != t || run_of[static_cast<std::size_t>(list.owners()[e])] == t)
+          continue;
+        expected.push_back(p);
+        crossing_contacts += list.pairs().active[e];
+      }
+      std::sort(expected.begin(), expected.end());
+      expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+      EXPECT_EQ(plan.edge_particles(t), expected) << threads << " runs, run " << t;
+      edge += plan.edge_particles(t).size();
+    }
+    EXPECT_GT(crossing_contacts, 0u) << threads << " runs";
+    EXPECT_GT(edge, 0u) << threads << " runs";
+    EXPECT_LT(edge, n / 2) << "most particles are summed by their thread's pair loop alone";
   }
-  EXPECT_GT(crossing_contacts, 0u);
-  EXPECT_GT(edge, 0u);
-  EXPECT_LT(edge, n / 2) << "most particles are summed by their thread's pair loop alone";
   for (const int threads : {2, 3}) {
     omp_set_num_threads(threads);
     Simulation more(start);
     ASSERT_EQ(more.run(200), 200) << more.failure();
     expect_same_state(one.state(), more.state());
   }
-  omp_set_num_threads(before);
 }
 
 namespace {

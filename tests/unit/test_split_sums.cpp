@@ -13,8 +13,8 @@
 //     on both sides;
 //   - the ghost springs are the list's springs when the plan is made, and
 //     after a step the ones the owners put for the next one;
-//   - edge_particles(t) is exactly run t's particles in a pair that
-//     crosses runs, ascending;
+//   (edge_particles, kept for spheroid lists: SpheroidRestart.
+//   PairsCrossingThreadRunsGiveTheOneThreadBits);
 //   - the plan follows the runs and the steps.
 #include <gtest/gtest.h>
 
@@ -88,18 +88,6 @@ std::size_t check_plan(const Simulation& sim, int threads) {
     EXPECT_EQ(entries(plan.ghosts_before(t)), before) << "thread " << t;
     EXPECT_EQ(entries(plan.ghosts_after(t)), after) << "thread " << t;
     EXPECT_EQ(plan.boundary(t), boundary) << "thread " << t;
-    // edge particles: run t's particles in some pair that crosses runs
-    std::vector<std::int32_t> edge;
-    for (std::size_t e = 0; e < partner.size(); ++e) {
-      const std::int32_t o = owners[e], p = partner[e];
-      const int to = run_of[static_cast<std::size_t>(o)], tp = run_of[static_cast<std::size_t>(p)];
-      if (to == tp) continue;
-      if (to == t) edge.push_back(o);
-      if (tp == t) edge.push_back(p);
-    }
-    std::sort(edge.begin(), edge.end());
-    edge.erase(std::unique(edge.begin(), edge.end()), edge.end());
-    EXPECT_EQ(plan.edge_particles(t), edge) << "thread " << t;
     ghosts += before.size() + after.size();
     for (const auto* g : {&plan.ghosts_before(t), &plan.ghosts_after(t)})
       for (const SplitSums::Ghost& x : *g) {

@@ -180,6 +180,7 @@ TEST(ThreadGovernor, CapsTheCountToTheSpecimensChunks) {
   ThreadGovernor g(2, 1, 0.0, 15);
   for (int k = 0; k < 5; ++k) g.record_step(1e-3);
   ASSERT_GT(g.steps_max() + g.steps_one(), 0);
+  ASSERT_GT(g.cost_max(), 0.0);
   g.limit_to_chunks(3);
   EXPECT_EQ(g.max_threads(), 1);
   EXPECT_EQ(g.threads(), 1);

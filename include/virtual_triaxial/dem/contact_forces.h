@@ -170,7 +170,8 @@ class ContactForces {
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several, split_used() tells how the sums were made).
+  /// several: spheres, see split_used(); spheroids, each thread's pair loop
+  /// and a gather of its edge particles, split_sums.h).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
   /// Sphere path on several threads: pairs the last compute() evaluated
   /// twice, as ghosts (split_sums.h); 0 otherwise.
@@ -202,7 +203,7 @@ class ContactForces {
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
-  SplitSums split_;                      ///< sphere path on several threads
+  SplitSums split_;                      ///< several threads: ghosts (spheres), edge particles (spheroids)
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
   std::int64_t steps_ = 0;               ///< compute() calls (SplitSums' step stamps)

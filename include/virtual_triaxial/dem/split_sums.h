@@ -1,5 +1,6 @@
-// Per-particle force and moment sums of the sphere pair loop on several
-// threads, without a gather (ContactForces::compute).
+// Per-particle force and moment sums of the pair loop on several threads
+// (ContactForces::compute): spheres without a gather, as below; spheroids
+// gather only their edge particles (edge_particles).
 //
 // Thread t takes its run of chunks (thread_runs.h): the particles of the
 // run are its "home". Its pair loop evaluates the pairs owned in its run, as
@@ -49,7 +50,9 @@ class SplitSums {
     return serves(list, n, runs) && stamp == stamp_ + 1;
   }
   /// Before step `stamp` (serially): remake the plan unless current, and
-  /// refill the ghost springs from the list unless they follow on.
+  /// refill the ghost springs from the list unless they follow on. (The
+  /// spheroid path keeps the plan for its edge particles and never reads
+  /// the ghost springs; a plan serves one list build, sphere or spheroid.)
   void prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp);
   /// After every step taken with the plan (serially): swaps the buffers.
   void finish_step(std::int64_t stamp);
@@ -61,11 +64,13 @@ class SplitSums {
   /// the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
-  /// The particles of run t that a pair crossing runs involves (owners of
-  /// boundary(t), partners of ghosts_before(t) and ghosts_after(t)),
-  /// ascending: their sums take pairs of other runs. The spheroid path
-  /// gathers them after every thread's pair loop (its pairs are too dear
-  /// to evaluate twice); each thread's pair loop makes the others' sums.
+  /// Lists with spheroids only (NeighborList::has_spheroids): the particles
+  /// of run t that are partners of pairs owned in other runs (of
+  /// ghosts_before(t) and ghosts_after(t)), ascending: their sums take
+  /// terms that other threads evaluate. The spheroid path gathers them once
+  /// every thread's pair loop is done (their pairs are too dear to evaluate
+  /// twice); each thread's pair loop makes every other sum of its run (an
+  /// owner of a pair crossing runs gets that term in its own loop).
   const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
   /// Springs at the start of this step, by ghost slot.
   const Vec3* ghost_springs() const { return spring_[read_].data(); }

@@ -41,7 +41,8 @@
 // The probes take at most 1/(exploit_blocks + 1) of the run's wall time
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
 // 1-thread block, and a fixed spacing then lets the probes dominate), and
-// cost (r - 1)/(exploit_blocks r + 1) of it. exploit_blocks defaults to 30
+// make a run (r - 1)/(exploit_blocks r + 1) longer than one on the cheaper
+// count alone. exploit_blocks defaults to 30
 // (session 16; 15 before): with one busy process beside 12 000 spheres
 // (r ~ 2.5), 15 gave the probes about 5 % of the time, the measured
 // excess of `auto` over one thread; 30 halves it, and a load that went
@@ -119,8 +120,8 @@ class ThreadGovernor {
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count
   bool warming_ = true;    ///< in the run's first block (counted, not timed)
-  std::int64_t warm_steps_ = 0;
-  double warm_seconds_ = 0;
+  std::int64_t warm_steps_ = 0;  ///< steps of the first block so far
+  double warm_seconds_ = 0;      ///< their wall time [s]
 };
 
 }  // namespace vt::dem

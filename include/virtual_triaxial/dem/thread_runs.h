@@ -1,5 +1,5 @@
 // Which chunks each OpenMP thread takes in the pair loop (spheres and
-// spheroids), its sums (split_sums.h, spheres) and the integrator: one run of consecutive chunks per
+// spheroids), its sums (split_sums.h) and the integrator: one run of consecutive chunks per
 // thread, cut by measured speed (issue 13: on a shared host one vCPU can be
 // 30 % slower than the other for minutes; with equal runs the fast thread
 // then waits at every barrier).
