@@ -86,7 +86,7 @@
 // particles as on one thread, and after a barrier only the particles of
 // pairs that cross runs gather (SplitSums::edge_particles; session 16:
 // gathering every particle was 17 % of a two-thread run's CPU at 12 000
-// spheroids; now 0.948x the time, median of 12 interleaved rounds).
+// spheroids, now 8 %; 0.954x the time, median of 20 interleaved rounds).
 #pragma once
 
 #include <cstddef>
