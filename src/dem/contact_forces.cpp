@@ -167,8 +167,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const int planned_team = omp_get_max_threads();
   const std::int64_t stamp = ++steps_;
   const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_, stamp);
-  split_used_ = false;  // set by a team of several on the sphere path
-  bool* split_used = &split_used_;
   bool plan_used = false;  // set by a team of several (both paths)
   const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
@@ -244,7 +242,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         runs->record(t, busy + (omp_get_wtime() - summing));
       } else {
         // home: particles [i0, i1); ghosts before, own chunks, ghosts after
-        if (t == 0) *split_used = true;
         std::fill(fout + i0, fout + i1, Vec3{});
         std::fill(tout + i0, tout + i1, Vec3{});
         PairInputs own = in;
@@ -268,6 +265,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     }
   }
   if (plan_used) split_.finish_step(stamp);
+  split_used_ = plan_used && !spheroids;
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);
