@@ -72,13 +72,21 @@ void ThreadGovernor::choose_next() {
   }
   const int best = cost_[0] <= cost_[1] ? 1 : max_;
   const int other = best == 1 ? max_ : 1;
+  if (probing_) {  // the block that ended probed the other count
+    probing_ = false;
+    backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
+  } else if (best != current_) {
+    backoff_ = 1;  // the running count got dearer than the other: the load changed
+  }
   // Probe spacing grows with the cost ratio r (at most 64), so the probes
-  // take at most 1/(exploit + 1) of the run's time, however slow the other count.
+  // take at most 1/(exploit + 1) of the run's time, however slow the other
+  // count, and doubles with each probe that confirms the count (backoff).
   const double r = std::min(max_ratio_, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
-  const int probe_after = static_cast<int>(std::ceil(exploit_ * r));
+  const int probe_after = static_cast<int>(std::ceil(exploit_ * r * backoff_));
   if (current_ == best && ++blocks_since_probe_ >= probe_after) {
     blocks_since_probe_ = 0;
     current_ = other;  // one block to refresh the other count's cost
+    probing_ = true;
   } else {
     current_ = best;
   }

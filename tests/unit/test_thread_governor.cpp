@@ -1,8 +1,9 @@
 // Runtime thread count (dem/thread_governor.h): the governor keeps the count
 // whose measured cost per step is lower (the run's first block, which pays
-// for the start, not timed), notices a load that comes or goes
-// within exploit_blocks r + 2 blocks (r: cost ratio), spends at most
-// 1/(exploit_blocks + 1) of the time on the worse count, is not flipped by
+// for the start, not timed), notices a load that goes within
+// exploit_blocks r b + 2 blocks (r: cost ratio, b: the probes' backoff, 1-4),
+// spends at most 1/(exploit_blocks + 1) of the time on the worse count and
+// less as its probes keep confirming the count, is not flipped by
 // one slow block nor timed on steps whose cost is not the count's, and a run
 // whose thread count it switches back and forth is bit-identical to a
 // one-thread run.
@@ -10,6 +11,7 @@
 #include <omp.h>
 
 #include <cstring>
+#include <vector>
 
 #include "support/scenes.h"
 #include "virtual_triaxial/dem/simulation.h"
@@ -31,22 +33,71 @@ TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
   ThreadGovernor g(2, 10, 0.0, 15);  // blocks of 10 steps
   EXPECT_EQ(g.threads(), 2);
   // busy machine: two threads 3x slower than one
-  feed(g, 3200, [](int t) { return t == 1 ? 1e-3 : 3e-3; });
+  feed(g, 3100, [](int t) { return t == 1 ? 1e-3 : 3e-3; });
   EXPECT_NEAR(g.cost_one(), 1e-3, 1e-15);
   EXPECT_NEAR(g.cost_max(), 3e-3, 1e-15);
   // after the untimed first block and the two start blocks, one probe block
   // of 10 steps after every 15 x 3 = 45 blocks: the probes take 3/(45 + 3)
-  // = 1/16 of the time
-  EXPECT_LE(g.steps_max(), 10 + 10 + 3200 / 46 + 10);
-  EXPECT_GE(g.steps_one(), 3200 - (10 + 10 + 3200 / 46 + 10));
-  // the load goes away: two threads twice as fast; found within 46 blocks
+  // = 1/16 of the time, less with the backoff
+  EXPECT_LE(g.steps_max(), 10 + 10 + 3100 / 46 + 10);
+  EXPECT_GE(g.steps_one(), 3100 - (10 + 10 + 3100 / 46 + 10));
+  ASSERT_EQ(g.threads(), 1);  // between probes
+  // the load goes away: two threads twice as fast; found at the next probe,
+  // at most 15 x 3 x kMaxProbeBackoff = 180 blocks later
   const std::int64_t one_before = g.steps_one();
-  feed(g, 470, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
+  while (g.threads() == 1 && g.steps_one() - one_before <= 1900) g.record_step(1e-3);
+  EXPECT_LE(g.steps_one() - one_before, 1810);
+  feed(g, 11, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });  // the probe block
   EXPECT_EQ(g.threads(), 2);
-  EXPECT_LE(g.steps_one() - one_before, 460);
   const std::int64_t max_before = g.steps_max();  // now 1 thread is probed after 30 blocks
   feed(g, 1600, [](int t) { return t == 1 ? 1e-3 : 0.5e-3; });
   EXPECT_GE(g.steps_max() - max_before, 1600 - 1600 / 31 - 10);
+}
+
+TEST(ThreadGovernor, ProbesThatConfirmTheCountComeLessOften) {
+  ThreadGovernor g(2, 10, 0.0, 15);  // blocks of 10 steps
+  // two threads 3x dearer (r = 3): one-thread blocks between probes 45 b,
+  // b doubling with each probe that confirms one thread, up to 4. Each gap
+  // holds the first step after the switch back (untimed): 10 x 45 b + 1 steps.
+  const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
+  std::vector<std::int64_t> gaps;  // one-thread steps from a probe's start to the next's
+  std::int64_t ones_at_probe = -1;
+  for (int k = 0; k < 12000; ++k) {
+    const int before = g.threads();
+    g.record_step(loaded(before));
+    if (before == 1 && g.threads() == 2) {
+      if (ones_at_probe >= 0) gaps.push_back(g.steps_one() - ones_at_probe);
+      ones_at_probe = g.steps_one();
+    }
+  }
+  // the start's one-thread block counts towards the first probe; from it on
+  // b = 2, 4, 4, ...
+  ASSERT_GE(gaps.size(), 3u);
+  EXPECT_EQ(gaps[0], 10 * 90 + 1);
+  EXPECT_EQ(gaps[1], 10 * 180 + 1);
+  EXPECT_EQ(gaps[2], 10 * 180 + 1);
+  // the load goes away: two threads twice as fast (r = 2); the next probe
+  // wins and the backoff starts again: one thread is probed after 15 x 2 = 30
+  // two-thread blocks, and again after 60 once that probe confirmed two threads
+  const auto quiet = [](int t) { return t == 1 ? 1e-3 : 0.5e-3; };
+  while (g.threads() == 1) g.record_step(quiet(1));
+  feed(g, 11, quiet);  // the winning probe block, first step untimed
+  ASSERT_EQ(g.threads(), 2);
+  std::vector<std::int64_t> twos;  // two-thread steps between one-thread probes
+  std::int64_t twos_at_probe = g.steps_max();
+  for (int k = 0; k < 1200 && twos.size() < 2; ++k) {
+    const int before = g.threads();
+    g.record_step(quiet(before));
+    if (before == 2 && g.threads() == 1) {
+      twos.push_back(g.steps_max() - twos_at_probe);
+      twos_at_probe = g.steps_max();
+    }
+  }
+  ASSERT_EQ(twos.size(), 2u);
+  // the winning probe block is the first of the 30 (its steps precede the
+  // count); the second gap holds the first step after the switch back
+  EXPECT_EQ(twos[0], 10 * 29);
+  EXPECT_EQ(twos[1], 10 * 60 + 1);
 }
 
 TEST(ThreadGovernor, TheRunsFirstBlockIsNotTimed) {

@@ -34,20 +34,32 @@
 //     us per step against 186-190 for every later one, so the one-thread
 //     probe (339) won and 1184 of the 3470 steps ran on one thread;
 //   - probe: the first timed block runs max_threads, the second 1; afterwards the
-//     cheaper count runs, and after ceil(exploit_blocks r) blocks, r = cost
+//     cheaper count runs, and after ceil(exploit_blocks r b) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
-//     so that its cost is current (a load that came or went is seen within
-//     exploit_blocks r + 2 blocks).
-// The probes take at most 1/(exploit_blocks + 1) of the run's wall time
+//     so that its cost is current;
+//   - backoff b: 1 at the start; a probe that confirms the running count
+//     doubles it, up to kMaxProbeBackoff = 4; a probe that wins, or the
+//     running count turning dearer than the other's last cost, sets it
+//     back to 1. A rise of the running count's cost is seen in its own
+//     blocks; a fall of the other's, at the next probe, within
+//     exploit_blocks r b + 2 blocks (at most 4 exploit_blocks r + 2: at
+//     12 000 spheres, blocks of about 22 ms, r = 2.5, 6.6 s).
+// The probes take at most 1/(exploit_blocks b + 1) of the run's wall time
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
 // 1-thread block, and a fixed spacing then lets the probes dominate), and
-// make a run (r - 1)/(exploit_blocks r + 1) longer than one on the cheaper
-// count alone. exploit_blocks defaults to 30
+// make a run about (r - 1)/(exploit_blocks r b + 1) longer than one on the
+// cheaper count alone. exploit_blocks defaults to 30
 // (session 16; 15 before): with one busy process beside 12 000 spheres
 // (r ~ 2.5), 15 gave the probes about 5 % of the time, the measured
-// excess of `auto` over one thread; 30 halves it, and a load that went
-// away is still seen within 30 r + 2 blocks (at 12 000 spheres, blocks of
-// 20 ms: 1.5 s for r = 2.5).
+// excess of `auto` over one thread; 30 halves it. The backoff (session
+// 17): beside one busy process, 12 000 spheres, 12 000 steps, 12
+// interleaved rounds (bench/beside_busy.sh), the runs took 82-166 steps on
+// two threads (median 103) against 187-290 (218) without it, at r = 2.5
+// about 1.3 % of the run's time; the rounds' time ratio with / without had
+// a median of 0.98 (0.85-1.13, the host's noise), and either build's
+// `auto` 1.007x one thread. Quiet (dense_4000.h5, 6000 steps, 10 rounds)
+// the choices were the same: 82-114 steps on one thread against 82-115,
+// and 502 against 512 in one round that hit a slow phase of the host.
 // With max_threads == 1 it never changes anything.
 //
 // Too little work for the threads: a thread takes whole 512-particle chunks
@@ -72,6 +84,8 @@ class ThreadGovernor {
   static constexpr std::int32_t kMinChunksPerThread = 2;
   /// Untimed steps a block may hold, in units of min_block_steps.
   static constexpr std::int64_t kMaxUntimed = 4;
+  /// Largest factor by which probes that confirm the count space the next one.
+  static constexpr int kMaxProbeBackoff = 4;
 
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
                           int exploit_blocks = 30, double max_spacing_ratio = 64.0);
@@ -120,6 +134,8 @@ class ThreadGovernor {
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count
   bool warming_ = true;    ///< in the run's first block (counted, not timed)
+  bool probing_ = false;   ///< the running block probes the other count
+  int backoff_ = 1;        ///< factor of the probe spacing (1, 2, .., kMaxProbeBackoff)
   std::int64_t warm_steps_ = 0;  ///< steps of the first block so far
   double warm_seconds_ = 0;      ///< their wall time [s]
 };

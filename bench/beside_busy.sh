@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Two threads beside one busy process (issue 13, "graceful under load"):
+# one `yes > /dev/null` runs for the whole measurement while triax_bench times
+# the same dense tiled sample on one thread and with the thread governor
+# (`--threads auto`, two threads allowed), interleaved, the order alternating
+# from round to round (1-auto, auto-1, ...). Prints each round, the medians and
+# the median of the rounds' ratios auto / one.
+#
+# Usage: bench/beside_busy.sh [ROUNDS [STEPS [TILE]]]   (defaults 8 12000 3x2x2)
+# env BENCH: the triax_bench binary (default: the catkin build's); its
+#   directory goes first on LD_LIBRARY_PATH, so a directory holding a copied
+#   triax_bench and libvt_*.so times that build.
+# env BENCH_B: a second build's triax_bench, timed `auto` in the same rounds
+#   (an A/B of two governors; the order rotates over one, auto, auto B).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+ROUNDS=${1:-8}
+STEPS=${2:-12000}
+TILE=${3:-3x2x2}
+BENCH=${BENCH:-build/devel/lib/virtual_triaxial/triax_bench}
+[[ -x "$BENCH" ]] || { echo "beside_busy: no triax_bench at $BENCH (build first: tests/run_tests.sh)" >&2; exit 2; }
+
+yes > /dev/null &
+BUSY=$!
+trap 'kill $BUSY 2>/dev/null || true' EXIT
+
+run() {  # $1 = binary, $2 = 1 | auto; prints "us threads-line"
+  local out
+  out=$(LD_LIBRARY_PATH="$(dirname "$1")" "$1" --sample config/samples/dense_1000.h5 --tile "$TILE" --sort-sample --steps "$STEPS" --threads "$2" 2>&1)
+  echo "$(sed -n 's/^us_per_particle_step: //p' <<<"$out") $(sed -n 's/^threads: //p' <<<"$out")"
+}
+
+echo "# $(date -u '+%Y-%m-%d %H:%M UTC'), one \`yes > /dev/null\` beside; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# $BENCH --sample config/samples/dense_1000.h5 --tile $TILE --sort-sample --steps $STEPS --threads 1|auto"
+[[ -z "${BENCH_B:-}" || -x "$BENCH_B" ]] || { echo "beside_busy: BENCH_B=$BENCH_B is not executable" >&2; exit 2; }
+[[ -n "${BENCH_B:-}" ]] && echo "# auto B: $BENCH_B"
+echo "round  one      auto     auto/one  ${BENCH_B:+auto-B   B/one     }auto's threads${BENCH_B:+ | B threads}"
+ones=() autos=() ratios=() bs=() bratios=()
+for ((r = 1; r <= ROUNDS; ++r)); do
+  jobs=("1" "auto")
+  [[ -n "${BENCH_B:-}" ]] && jobs+=("B")
+  declare -A got=()
+  for ((k = 0; k < ${#jobs[@]}; ++k)); do
+    j=${jobs[$(((k + r) % ${#jobs[@]}))]}
+    case $j in
+      1) got[1]=$(run "$BENCH" 1) ;;
+      auto) got[auto]=$(run "$BENCH" auto) ;;
+      B) got[B]=$(run "$BENCH_B" auto) ;;
+    esac
+  done
+  o=${got[1]%% *} a=${got[auto]%% *}
+  ratio=$(awk -v a="$a" -v o="$o" 'BEGIN { printf "%.3f", a / o }')
+  ones+=("$o") autos+=("$a") ratios+=("$ratio")
+  extra="" btail=""
+  if [[ -n "${BENCH_B:-}" ]]; then
+    b=${got[B]%% *}
+    bratio=$(awk -v b="$b" -v o="$o" 'BEGIN { printf "%.3f", b / o }')
+    bs+=("$b") bratios+=("$bratio")
+    extra=$(printf '%-8s %-9s ' "$b" "$bratio") btail=" | ${got[B]#* }"
+  fi
+  printf '%-6s %-8s %-8s %-9s %s%s%s\n' "$r" "$o" "$a" "$ratio" "$extra" "${got[auto]#* }" "$btail"
+  unset got
+done
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+slower() { printf '%s\n' "$@" | awk '$1 > 1 { n++ } END { print n + 0 }'; }
+echo "median one $(median "${ones[@]}"), auto $(median "${autos[@]}") us per particle-step; auto/one $(median "${ratios[@]}") (median of the rounds' ratios), slower than one in $(slower "${ratios[@]}") of $ROUNDS rounds"
+if [[ -n "${BENCH_B:-}" ]]; then
+  echo "median auto B $(median "${bs[@]}") us; B/one $(median "${bratios[@]}"), slower than one in $(slower "${bratios[@]}") of $ROUNDS rounds"
+fi
