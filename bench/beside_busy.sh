@@ -2,14 +2,17 @@
 # Two threads beside one busy process (issue 13, "graceful under load"):
 # one `yes > /dev/null` runs for the whole measurement while triax_bench times
 # the same dense tiled sample on one thread and with the thread governor
-# (`--threads auto`, two threads allowed), interleaved, the order alternating
-# from round to round (1-auto, auto-1, ...). Prints each round, the medians and
-# the median of the rounds' ratios auto / one.
+# (`--threads auto`, two threads allowed), interleaved, the order rotating
+# from round to round (round 1: auto, 1; round 2: 1, auto; with BENCH_B the
+# three rotate, so use a multiple of 3 rounds). Prints each round, the medians
+# and the median of the rounds' ratios auto / one.
 #
 # Usage: bench/beside_busy.sh [ROUNDS [STEPS [TILE]]]   (defaults 8 12000 3x2x2)
 # env BENCH: the triax_bench binary (default: the catkin build's); its
-#   directory goes first on LD_LIBRARY_PATH, so a directory holding a copied
-#   triax_bench and libvt_*.so times that build.
+#   directory is the LD_LIBRARY_PATH of its runs (triax_bench has a RUNPATH,
+#   which LD_LIBRARY_PATH overrides), so a directory holding a copied
+#   triax_bench and libvt_*.so times that build. Relative paths are taken
+#   from the repository's root.
 # env BENCH_B: a second build's triax_bench, timed `auto` in the same rounds
 #   (an A/B of two governors; the order rotates over one, auto, auto B).
 set -euo pipefail
@@ -18,6 +21,8 @@ ROUNDS=${1:-8}
 STEPS=${2:-12000}
 TILE=${3:-3x2x2}
 BENCH=${BENCH:-build/devel/lib/virtual_triaxial/triax_bench}
+[[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "beside_busy: ROUNDS must be a whole number >= 1, got '$ROUNDS'" >&2; exit 2; }
+[[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "beside_busy: STEPS must be a whole number >= 1, got '$STEPS'" >&2; exit 2; }
 [[ -x "$BENCH" ]] || { echo "beside_busy: no triax_bench at $BENCH (build first: tests/run_tests.sh)" >&2; exit 2; }
 
 yes > /dev/null &
@@ -26,7 +31,9 @@ trap 'kill $BUSY 2>/dev/null || true' EXIT
 
 run() {  # $1 = binary, $2 = 1 | auto; prints "us threads-line"
   local out
-  out=$(LD_LIBRARY_PATH="$(dirname "$1")" "$1" --sample config/samples/dense_1000.h5 --tile "$TILE" --sort-sample --steps "$STEPS" --threads "$2" 2>&1)
+  out=$(LD_LIBRARY_PATH="$(dirname "$1")" "$1" --sample config/samples/dense_1000.h5 --tile "$TILE" --sort-sample --steps "$STEPS" --threads "$2" 2>&1) ||
+    { echo "beside_busy: $1 --threads $2 failed:" >&2; tail -5 <<<"$out" >&2; return 1; }
+  grep -q '^us_per_particle_step: [0-9]' <<<"$out" || { echo "beside_busy: $1 printed no us_per_particle_step" >&2; return 1; }
   echo "$(sed -n 's/^us_per_particle_step: //p' <<<"$out") $(sed -n 's/^threads: //p' <<<"$out")"
 }
 
@@ -43,9 +50,9 @@ for ((r = 1; r <= ROUNDS; ++r)); do
   for ((k = 0; k < ${#jobs[@]}; ++k)); do
     j=${jobs[$(((k + r) % ${#jobs[@]}))]}
     case $j in
-      1) got[1]=$(run "$BENCH" 1) ;;
-      auto) got[auto]=$(run "$BENCH" auto) ;;
-      B) got[B]=$(run "$BENCH_B" auto) ;;
+      1) got[1]=$(run "$BENCH" 1) || exit 1 ;;
+      auto) got[auto]=$(run "$BENCH" auto) || exit 1 ;;
+      B) got[B]=$(run "$BENCH_B" auto) || exit 1 ;;
     esac
   done
   o=${got[1]%% *} a=${got[auto]%% *}

@@ -76,7 +76,10 @@ void ThreadGovernor::choose_next() {
     probing_ = false;
     backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
   } else if (best != current_) {
-    backoff_ = 1;  // the running count got dearer than the other: the load changed
+    // the running count got dearer than the other: the load changed.
+    // blocks_since_probe_ is kept, so the count just left is probed again
+    // soon: a second look, in case the change was a hiccup of the host
+    backoff_ = 1;
   }
   // Probe spacing grows with the cost ratio r (at most 64), so the probes
   // take at most 1/(exploit + 1) of the run's time, however slow the other

@@ -100,6 +100,48 @@ TEST(ThreadGovernor, ProbesThatConfirmTheCountComeLessOften) {
   EXPECT_EQ(twos[1], 10 * 60 + 1);
 }
 
+TEST(ThreadGovernor, AChangeOfLoadStartsTheProbeSpacingAgain) {
+  // costs in powers of two, so every block cost and ratio is exact
+  const double unit = 1.0 / 1024;
+  ThreadGovernor g(2, 10, 0.0, 15);
+  // two threads 4x dearer (r = 4): probes of two threads after 60, 120, 240,
+  // 240 one-thread blocks; after three probes b = 4
+  const auto loaded = [&](int t) { return t == 1 ? unit : 4 * unit; };
+  int probes = 0;
+  while (probes < 3) {
+    const int before = g.threads();
+    g.record_step(loaded(before));
+    if (before == 1 && g.threads() == 2) ++probes;
+  }
+  while (g.threads() == 2) g.record_step(loaded(2));  // the third probe block
+  feed(g, 11 + 59 * 10, loaded);  // 60 blocks on one thread (the first step after the switch untimed)
+  ASSERT_EQ(g.threads(), 1);
+  // one thread gets 8x dearer (two threads now 2x cheaper, r = 2); the
+  // second such block switches to two threads and sets b to 1. The dropped
+  // count is probed after the first two-thread block (62 blocks since the
+  // last probe >= 15 x 2; with b = 4 it would wait for 120), the
+  // probe confirms two threads, b = 2: the next probe after 15 x 2 x 2 = 60
+  // blocks, the one after it after 120.
+  const auto changed = [&](int t) { return t == 1 ? 8 * unit : 4 * unit; };
+  feed(g, 20, changed);
+  ASSERT_EQ(g.threads(), 2);
+  std::vector<std::int64_t> twos;  // two-thread steps between one-thread probes
+  std::int64_t twos_at_probe = -1;
+  for (int k = 0; k < 4000 && twos.size() < 2; ++k) {
+    const int before = g.threads();
+    g.record_step(changed(before));
+    if (before == 2 && g.threads() == 1) {
+      if (twos_at_probe >= 0) twos.push_back(g.steps_max() - twos_at_probe);
+      twos_at_probe = g.steps_max();
+    }
+  }
+  ASSERT_EQ(twos.size(), 2u);
+  // each gap starts with the untimed first step after the probe; without the
+  // reset b would stay 4: 120 and 120 blocks
+  EXPECT_EQ(twos[0], 10 * 60 + 1);
+  EXPECT_EQ(twos[1], 10 * 120 + 1);
+}
+
 TEST(ThreadGovernor, TheRunsFirstBlockIsNotTimed) {
   ThreadGovernor g(2, 10, 0.0, 15);
   // the start makes the first block of two threads 2x dearer than two
@@ -202,7 +244,7 @@ TEST(ThreadGovernor, SwitchingCountsKeepsTheRunBitIdentical) {
   const double rate = 2e-4 / one.time_scale().t0;
   one.set_strain_rates({-rate, -rate, -rate});
   governed.set_strain_rates({-rate, -rate, -rate});
-  // switch every few steps whatever the timings (fixed probe spacing)
+  // switch every few steps whatever the timings (probe spacing 1, 2 or 4 blocks)
   governed.set_thread_governor(ThreadGovernor(2, 3, 0.0, 1, 1.0));
   omp_set_num_threads(1);
   ASSERT_EQ(one.run(600), 600);

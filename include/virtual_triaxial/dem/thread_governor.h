@@ -43,8 +43,14 @@
 //     back to 1. A rise of the running count's cost is seen in its own
 //     blocks; a fall of the other's, at the next probe, within
 //     exploit_blocks r b + 2 blocks (at most 4 exploit_blocks r + 2: at
-//     12 000 spheres, blocks of about 22 ms, r = 2.5, 6.6 s).
-// The probes take at most 1/(exploit_blocks b + 1) of the run's wall time
+//     12 000 spheres, blocks of about 22 ms, r = 2.5, 6.6 s). After a
+//     switch because the running count got dearer, the count of blocks
+//     since the last probe is kept, so the count just left is probed again
+//     soon (often at the next block): a second look, since the change may
+//     be a hiccup of the host (two slow blocks); when that probe confirms
+//     the switch, b becomes 2.
+// The probes take about 1/(exploit_blocks b + 1) of the run's wall time at
+// most (a little more for the untimed first step of a block after a switch)
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
 // 1-thread block, and a fixed spacing then lets the probes dominate), and
 // make a run about (r - 1)/(exploit_blocks r b + 1) longer than one on the
@@ -54,8 +60,9 @@
 // excess of `auto` over one thread; 30 halves it. The backoff (session
 // 17): beside one busy process, 12 000 spheres, 12 000 steps, 12
 // interleaved rounds (bench/beside_busy.sh), the runs took 82-166 steps on
-// two threads (median 103) against 187-290 (218) without it, at r = 2.5
-// about 1.3 % of the run's time; the rounds' time ratio with / without had
+// two threads (median 103, about 40 of them the start's) against 187-290
+// (218) without it: 115 fewer steps at r = 2.5, about 1.4 % of the run's
+// time saved; the rounds' time ratio with / without had
 // a median of 0.98 (0.85-1.13, the host's noise), and either build's
 // `auto` 1.007x one thread. Quiet (dense_4000.h5, 6000 steps, 10 rounds)
 // the choices were the same: 82-114 steps on one thread against 82-115,
