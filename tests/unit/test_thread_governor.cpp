@@ -27,6 +27,28 @@ void feed(ThreadGovernor& g, int steps, Cost cost) {
   for (int k = 0; k < steps; ++k) g.record_step(cost(g.threads()));
 }
 
+/// Run steps costing cost(threads) until `n` gaps are recorded (at most
+/// `max_steps` steps); a gap is the steps run on `running` threads from the
+/// start of one probe of the other count to the start of the next (the first
+/// gap from now when from_now, else from the first probe). Stops right after
+/// the step that starts the probe closing the n-th gap.
+template <class Cost>
+std::vector<std::int64_t> probe_gaps(ThreadGovernor& g, Cost cost, int running, std::size_t n, int max_steps,
+                                     bool from_now) {
+  const auto on_running = [&] { return running == 1 ? g.steps_one() : g.steps_max(); };
+  std::vector<std::int64_t> gaps;
+  std::int64_t at_probe = from_now ? on_running() : -1;
+  for (int k = 0; k < max_steps && gaps.size() < n; ++k) {
+    const int before = g.threads();
+    g.record_step(cost(before));
+    if (before == running && g.threads() != running) {
+      if (at_probe >= 0) gaps.push_back(on_running() - at_probe);
+      at_probe = on_running();
+    }
+  }
+  return gaps;
+}
+
 }  // namespace
 
 TEST(ThreadGovernor, KeepsTheCheaperCountAndProbesTheOtherRarely) {
@@ -60,19 +82,10 @@ TEST(ThreadGovernor, ProbesThatConfirmTheCountComeLessOften) {
   // b doubling with each probe that confirms one thread, up to 4. Each gap
   // holds the first step after the switch back (untimed): 10 x 45 b + 1 steps.
   const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
-  std::vector<std::int64_t> gaps;  // one-thread steps from a probe's start to the next's
-  std::int64_t ones_at_probe = -1;
-  for (int k = 0; k < 12000; ++k) {
-    const int before = g.threads();
-    g.record_step(loaded(before));
-    if (before == 1 && g.threads() == 2) {
-      if (ones_at_probe >= 0) gaps.push_back(g.steps_one() - ones_at_probe);
-      ones_at_probe = g.steps_one();
-    }
-  }
+  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 3, 12000, false);
   // the start's one-thread block counts towards the first probe; from it on
   // b = 2, 4, 4, ...
-  ASSERT_GE(gaps.size(), 3u);
+  ASSERT_EQ(gaps.size(), 3u);
   EXPECT_EQ(gaps[0], 10 * 90 + 1);
   EXPECT_EQ(gaps[1], 10 * 180 + 1);
   EXPECT_EQ(gaps[2], 10 * 180 + 1);
@@ -80,19 +93,10 @@ TEST(ThreadGovernor, ProbesThatConfirmTheCountComeLessOften) {
   // wins and the backoff starts again: one thread is probed after 15 x 2 = 30
   // two-thread blocks, and again after 60 once that probe confirmed two threads
   const auto quiet = [](int t) { return t == 1 ? 1e-3 : 0.5e-3; };
-  while (g.threads() == 1) g.record_step(quiet(1));
-  feed(g, 11, quiet);  // the winning probe block, first step untimed
+  ASSERT_EQ(g.threads(), 2);  // the fourth probe starts
+  feed(g, 11, quiet);          // its block, first step untimed: two threads win
   ASSERT_EQ(g.threads(), 2);
-  std::vector<std::int64_t> twos;  // two-thread steps between one-thread probes
-  std::int64_t twos_at_probe = g.steps_max();
-  for (int k = 0; k < 1200 && twos.size() < 2; ++k) {
-    const int before = g.threads();
-    g.record_step(quiet(before));
-    if (before == 2 && g.threads() == 1) {
-      twos.push_back(g.steps_max() - twos_at_probe);
-      twos_at_probe = g.steps_max();
-    }
-  }
+  const std::vector<std::int64_t> twos = probe_gaps(g, quiet, 2, 2, 1200, true);
   ASSERT_EQ(twos.size(), 2u);
   // the winning probe block is the first of the 30 (its steps precede the
   // count); the second gap holds the first step after the switch back
@@ -107,12 +111,7 @@ TEST(ThreadGovernor, AChangeOfLoadStartsTheProbeSpacingAgain) {
   // two threads 4x dearer (r = 4): probes of two threads after 60, 120, 240,
   // 240 one-thread blocks; after three probes b = 4
   const auto loaded = [&](int t) { return t == 1 ? unit : 4 * unit; };
-  int probes = 0;
-  while (probes < 3) {
-    const int before = g.threads();
-    g.record_step(loaded(before));
-    if (before == 1 && g.threads() == 2) ++probes;
-  }
+  ASSERT_EQ(probe_gaps(g, loaded, 1, 2, 40000, false).size(), 2u);  // three probes
   while (g.threads() == 2) g.record_step(loaded(2));  // the third probe block
   feed(g, 11 + 59 * 10, loaded);  // 60 blocks on one thread (the first step after the switch untimed)
   ASSERT_EQ(g.threads(), 1);
@@ -125,16 +124,7 @@ TEST(ThreadGovernor, AChangeOfLoadStartsTheProbeSpacingAgain) {
   const auto changed = [&](int t) { return t == 1 ? 8 * unit : 4 * unit; };
   feed(g, 20, changed);
   ASSERT_EQ(g.threads(), 2);
-  std::vector<std::int64_t> twos;  // two-thread steps between one-thread probes
-  std::int64_t twos_at_probe = -1;
-  for (int k = 0; k < 4000 && twos.size() < 2; ++k) {
-    const int before = g.threads();
-    g.record_step(changed(before));
-    if (before == 2 && g.threads() == 1) {
-      if (twos_at_probe >= 0) twos.push_back(g.steps_max() - twos_at_probe);
-      twos_at_probe = g.steps_max();
-    }
-  }
+  const std::vector<std::int64_t> twos = probe_gaps(g, changed, 2, 2, 4000, false);
   ASSERT_EQ(twos.size(), 2u);
   // each gap starts with the untimed first step after the probe; without the
   // reset b would stay 4: 120 and 120 blocks
