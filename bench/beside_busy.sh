@@ -17,6 +17,8 @@
 #   (an A/B of two governors; the order rotates over one, auto, auto B).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+# shellcheck source=median.sh
+source bench/median.sh
 ROUNDS=${1:-8}
 STEPS=${2:-12000}
 TILE=${3:-3x2x2}
@@ -68,9 +70,8 @@ for ((r = 1; r <= ROUNDS; ++r)); do
   printf '%-6s %-8s %-8s %-9s %s%s%s\n' "$r" "$o" "$a" "$ratio" "$extra" "${got[auto]#* }" "$btail"
   unset got
 done
-median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 slower() { printf '%s\n' "$@" | awk '$1 > 1 { n++ } END { print n + 0 }'; }
-echo "median one $(median "${ones[@]}"), auto $(median "${autos[@]}") us per particle-step; auto/one $(median "${ratios[@]}") (median of the rounds' ratios), slower than one in $(slower "${ratios[@]}") of $ROUNDS rounds"
+echo "median one $(median_of "${ones[@]}"), auto $(median_of "${autos[@]}") us per particle-step; auto/one $(median_of "${ratios[@]}") (median of the rounds' ratios), slower than one in $(slower "${ratios[@]}") of $ROUNDS rounds"
 if [[ -n "${BENCH_B:-}" ]]; then
-  echo "median auto B $(median "${bs[@]}") us; B/one $(median "${bratios[@]}"), slower than one in $(slower "${bratios[@]}") of $ROUNDS rounds"
+  echo "median auto B $(median_of "${bs[@]}") us; B/one $(median_of "${bratios[@]}"), slower than one in $(slower "${bratios[@]}") of $ROUNDS rounds"
 fi

@@ -71,7 +71,8 @@ wait_idle() {
   done
 }
 value() { awk -F': ' -v k="$1" '$1 == k { print $2 }' "$2"; }
-median() { sort -g | awk '{ v[NR] = $1 } END { if (NR == 0) print "-"; else if (NR % 2) print v[(NR + 1) / 2]; else printf "%.4g\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+# shellcheck source=median.sh
+source bench/median.sh
 
 # case_args SHAPE SIZE -> args (triax_bench arguments of one case)
 case_args() {

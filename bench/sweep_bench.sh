@@ -45,11 +45,12 @@ for ((r = 1; r <= ROUNDS; r++)); do
   fi
   echo "round ${r}: 2 workers ${A[-1]} s, one after another ${B[-1]} s${C:+, slurm ${C[-1]} s}"
 done
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2}'; }
-ma=$(median "${A[@]}"); mb=$(median "${B[@]}")
+# shellcheck source=median.sh
+source "${ROOT}/bench/median.sh"
+ma=$(median_of "${A[@]}"); mb=$(median_of "${B[@]}")
 echo "median: 2 workers ${ma} s, one after another ${mb} s, speed-up $(echo "scale=3; ${mb} / ${ma}" | bc)"
 if ((${#C[@]})); then
-  mc=$(median "${C[@]}")
+  mc=$(median_of "${C[@]}")
   echo "median: slurm ${mc} s; overhead per run $(echo "scale=3; (${mc} - ${ma}) * 2 / 12" | bc) s"
 fi
 if [[ "${SLURM:-1}" == 1 ]]; then
@@ -64,7 +65,7 @@ if [[ "${SLURM:-1}" == 1 ]]; then
     t1=$(now); E+=("$(echo "${t1} - ${t0}" | bc)")
     echo "near-empty runs, round ${r}: 2 local workers ${D[-1]} s, slurm ${E[-1]} s"
   done
-  md=$(median "${D[@]}"); me=$(median "${E[@]}")
+  md=$(median_of "${D[@]}"); me=$(median_of "${E[@]}")
   echo "median near-empty: local ${md} s ($(echo "scale=3; ${md} * 2 / 12" | bc) s per run), slurm ${me} s ($(echo "scale=3; ${me} * 2 / 12" | bc) s per run)"
 fi
 /usr/bin/python3 - "${T}/a/sweep.csv" <<'PY'
