@@ -15,6 +15,10 @@
 #   from the repository's root.
 # env BENCH_B: a second build's triax_bench, timed `auto` in the same rounds
 #   (an A/B of two governors; the order rotates over one, auto, auto B).
+# env BUSY_CPU: pin the busy process to that CPU (taskset): the timed runs'
+#   one thread then runs on the other CPU in every run, so the vCPUs' speed
+#   difference (up to 37 % on this host) does not fall at random on one or
+#   auto.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 # shellcheck source=median.sh
@@ -27,7 +31,12 @@ BENCH=${BENCH:-build/devel/lib/virtual_triaxial/triax_bench}
 [[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "beside_busy: STEPS must be a whole number >= 1, got '$STEPS'" >&2; exit 2; }
 [[ -x "$BENCH" ]] || { echo "beside_busy: no triax_bench at $BENCH (build first: tests/run_tests.sh)" >&2; exit 2; }
 
-yes > /dev/null &
+if [[ -n "${BUSY_CPU:-}" ]]; then
+  [[ "$BUSY_CPU" =~ ^[0-9]+$ && "$BUSY_CPU" -lt $(nproc) ]] || { echo "beside_busy: BUSY_CPU must be a CPU number below $(nproc), got '$BUSY_CPU'" >&2; exit 2; }
+  taskset -c "$BUSY_CPU" yes > /dev/null &
+else
+  yes > /dev/null &
+fi
 BUSY=$!
 trap 'kill $BUSY 2>/dev/null || true' EXIT
 
@@ -39,7 +48,7 @@ run() {  # $1 = binary, $2 = 1 | auto; prints "us threads-line"
   echo "$(sed -n 's/^us_per_particle_step: //p' <<<"$out") $(sed -n 's/^threads: //p' <<<"$out")"
 }
 
-echo "# $(date -u '+%Y-%m-%d %H:%M UTC'), one \`yes > /dev/null\` beside; load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# $(date -u '+%Y-%m-%d %H:%M UTC'), one \`yes > /dev/null\` beside${BUSY_CPU:+ (pinned to CPU $BUSY_CPU)}; load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# $BENCH --sample config/samples/dense_1000.h5 --tile $TILE --sort-sample --steps $STEPS --threads 1|auto"
 [[ -z "${BENCH_B:-}" || -x "$BENCH_B" ]] || { echo "beside_busy: BENCH_B=$BENCH_B is not executable" >&2; exit 2; }
 [[ -n "${BENCH_B:-}" ]] && echo "# auto B: $BENCH_B"

@@ -89,6 +89,7 @@
 #include <vector>
 
 #include "virtual_triaxial/dem/cloud_generator.h"
+#include "virtual_triaxial/dem/machine_load.h"
 #include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
@@ -509,7 +510,7 @@ int main(int argc, char** argv) {
     sim = std::make_unique<Simulation>(st);
   }
   sim->set_sleep_apart_pairs(sleep);
-  if (threads == 0) sim->set_thread_governor(ThreadGovernor(omp_get_num_procs()));
+  if (threads == 0) sim->set_thread_governor(governor_on_this_machine(omp_get_num_procs()));
   if (sums == "pair-loop") sim->set_pair_loop_sum_threshold(0);
   if (sums == "gather") sim->set_pair_loop_sum_threshold(SIZE_MAX);
   const double shear = kShearRate / sim->time_scale().t0;

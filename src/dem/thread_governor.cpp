@@ -23,7 +23,23 @@ void ThreadGovernor::limit_to_chunks(std::int32_t chunks) {
   const int capped = useful_threads(chunks, max_);
   if (capped == max_) return;
   // costs measured for the old maximum no longer apply: start afresh
+  RoomCheck room = std::move(room_);
   *this = ThreadGovernor(capped, min_steps_, min_seconds_, exploit_, max_ratio_);
+  room_ = std::move(room);
+}
+
+bool ThreadGovernor::room_after_wait() {
+  if (room_blocks_left_ > 0) {
+    --room_blocks_left_;
+    return false;
+  }
+  if (room()) {
+    room_wait_ = 1;
+    return true;
+  }
+  room_blocks_left_ = room_wait_ - 1;  // ask again after room_wait_ blocks
+  room_wait_ = std::min(2 * room_wait_, exploit_);
+  return false;
 }
 
 void ThreadGovernor::record_step(double seconds, bool regular) {
@@ -33,7 +49,15 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
   switched_ = false;
   if (warming_) {  // the run's first block pays for the start: counted, not timed
     warm_seconds_ += seconds;
-    if (++warm_steps_ >= min_steps_ && warm_seconds_ >= min_seconds_) warming_ = false;
+    if (++warm_steps_ >= min_steps_ && warm_seconds_ >= min_seconds_) {
+      warming_ = false;
+      if (!room()) {  // the other cores are busy: one thread, max_threads asked for again after its first block
+        current_ = 1;
+        switched_ = true;
+        blocks_since_probe_ = exploit_;  // a probe due at once (r = 1 while max_threads is unmeasured)
+        room_wait_ = 2;  // this was the first "no": the next question after 1 block, then 2
+      }
+    }
     return;
   }
   // counted, not timed; but a block whose steps are all irregular (every
@@ -70,7 +94,8 @@ void ThreadGovernor::choose_next() {
     current_ = 1;
     return;
   }
-  const int best = cost_[0] <= cost_[1] ? 1 : max_;
+  // max_threads not measured yet (no room after the run's first block): one thread
+  const int best = cost_[1] == 0 || cost_[0] <= cost_[1] ? 1 : max_;
   const int other = best == 1 ? max_ : 1;
   if (probing_) {  // the block that ended probed the other count
     probing_ = false;
@@ -87,6 +112,7 @@ void ThreadGovernor::choose_next() {
   const double r = std::min(max_ratio_, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
   const int probe_after = static_cast<int>(std::ceil(exploit_ * r * backoff_));
   if (current_ == best && ++blocks_since_probe_ >= probe_after) {
+    if (other == max_ && !room_after_wait()) return;  // the other cores are busy: one thread goes on
     blocks_since_probe_ = 0;
     current_ = other;  // one block to refresh the other count's cost
     probing_ = true;

@@ -21,6 +21,7 @@
 #include "virtual_triaxial/Strain.h"
 #include "virtual_triaxial/Stress.h"
 #include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/dem/machine_load.h"
 #include "virtual_triaxial/dem/mass_damping.h"
 #include "virtual_triaxial/ros/measure_messages.h"
 #include "virtual_triaxial/ros/parameters.h"
@@ -113,7 +114,7 @@ void DemNode::install(Specimen s) {
   if (!s.warning.empty()) ROS_WARN("dem_node: %s: %s", s.source.c_str(), s.warning.c_str());
   arbiter_.set_limit(s.sim->time_scale().t0, max_dimensionless_rate_);
   sim_ = std::move(s.sim);
-  if (threads_ == 0) sim_->set_thread_governor(dem::ThreadGovernor(omp_get_max_threads()));
+  if (threads_ == 0) sim_->set_thread_governor(dem::governor_on_this_machine(omp_get_max_threads()));
   meta_ = s.meta;
   source_ = s.source;
   arbiter_.reset_commands();

@@ -49,6 +49,7 @@
 #include <string>
 
 #include "virtual_triaxial/dem/chunked.h"
+#include "virtual_triaxial/dem/machine_load.h"
 #include "virtual_triaxial/io/checkpoint_file.h"
 #include "virtual_triaxial/io/checkpoint_recorder.h"
 #include "virtual_triaxial/io/hdf5_atomic_file.h"
@@ -204,7 +205,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (a.threads > 0) omp_set_num_threads(a.threads);
-    else sim.set_thread_governor(vt::dem::ThreadGovernor(omp_get_max_threads()));
+    else sim.set_thread_governor(vt::dem::governor_on_this_machine(omp_get_max_threads()));
     if (const auto& g = sim.thread_governor(); g && g->max_threads() < omp_get_max_threads())
       std::fprintf(stderr, "triax_run: %zu particles: at most %d thread(s) of %d (fewer than %d chunks of %d per thread)\n",
                    sim.particles().size(), g->max_threads(), omp_get_max_threads(),

@@ -51,7 +51,9 @@ TEST(StabilityDetection, RaisingTheTimeStepUntilBlowUpIsDetectedPromptly) {
     EXPECT_FALSE(sim.failure().empty());
     // Detected no later than a few hundred steps after the energy doubled.
     const std::int64_t detected = sim.steps();
-    if (blow_up >= 0) EXPECT_LE(detected - blow_up, 300) << sim.failure();
+    if (blow_up >= 0) {
+      EXPECT_LE(detected - blow_up, 300) << sim.failure();
+    }
     EXPECT_LT(detected, 3000);
   }
   EXPECT_GE(stable_ct, 0.3) << "c_t = 0.3 must be stable";

@@ -6,7 +6,8 @@
 // less as its probes keep confirming the count, is not flipped by
 // one slow block nor timed on steps whose cost is not the count's, and a run
 // whose thread count it switches back and forth is bit-identical to a
-// one-thread run.
+// one-thread run. Where a room check says the other cores are busy, two
+// threads run the first block only and no probe of them runs.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -130,6 +131,100 @@ TEST(ThreadGovernor, AChangeOfLoadStartsTheProbeSpacingAgain) {
   // reset b would stay 4: 120 and 120 blocks
   EXPECT_EQ(twos[0], 10 * 60 + 1);
   EXPECT_EQ(twos[1], 10 * 120 + 1);
+}
+
+TEST(ThreadGovernor, WithoutRoomTwoThreadsRunTheFirstBlockOnly) {
+  ThreadGovernor g(2, 10, 0.0, 15);  // blocks of 10 steps
+  bool room = false;
+  int asked = 0;
+  g.set_room_check([&](int threads) {
+    EXPECT_EQ(threads, 2);
+    ++asked;
+    return room;
+  });
+  // two threads would be 3x dearer; with no room they run the untimed first
+  // block only, and are asked for at its end
+  const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
+  feed(g, 10, loaded);
+  EXPECT_EQ(asked, 1);
+  EXPECT_EQ(g.threads(), 1);
+  // 2990 steps on one thread: 298 timed blocks (the first step after the
+  // change untimed); the room is asked at the end of blocks 1, 3, 7, 15
+  // (waits of 1, 2, 4, 8 blocks) and then every 15 blocks: 30, 45, .. 285
+  feed(g, 2990, loaded);
+  EXPECT_EQ(g.steps_one(), 2990);
+  EXPECT_EQ(g.steps_max(), 10);
+  EXPECT_EQ(g.cost_max(), 0.0);
+  EXPECT_EQ(asked, 1 + 4 + (298 - 15) / 15);
+  // room, and two threads twice as fast as one: two threads run within 15
+  // blocks, their first block gives their cost (its first step untimed),
+  // and they win
+  room = true;
+  const auto quiet = [](int t) { return t == 1 ? 1e-3 : 0.5e-3; };
+  const std::int64_t one_before = g.steps_one();
+  while (g.threads() == 1 && g.steps_one() - one_before <= 200) g.record_step(quiet(1));
+  EXPECT_LE(g.steps_one() - one_before, 150);
+  ASSERT_EQ(g.threads(), 2);
+  feed(g, 11, quiet);
+  EXPECT_NEAR(g.cost_max(), 0.5e-3, 1e-15);
+  EXPECT_EQ(g.threads(), 2);
+  feed(g, 200, quiet);
+  EXPECT_EQ(g.steps_max(), 10 + 211);
+}
+
+TEST(ThreadGovernor, AMomentaryNoRoomCostsOneBlock) {
+  // a quiet machine where the first block's snapshot saw a passing task:
+  // two threads twice as fast as one, the first answer no, every later one yes
+  ThreadGovernor g(2, 10, 0.0, 15);
+  int asked = 0;
+  g.set_room_check([&](int) { return ++asked > 1; });
+  const auto quiet = [](int t) { return t == 1 ? 1e-3 : 0.5e-3; };
+  feed(g, 10, quiet);  // the untimed first block: no room
+  ASSERT_EQ(g.threads(), 1);
+  // one timed block on one thread (its first step untimed), then asked again
+  feed(g, 11, quiet);
+  EXPECT_EQ(asked, 2);
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_NEAR(g.cost_one(), 1e-3, 1e-15);
+  // two threads' first timed block: they win and stay
+  feed(g, 11, quiet);
+  EXPECT_NEAR(g.cost_max(), 0.5e-3, 1e-15);
+  feed(g, 250, quiet);
+  EXPECT_EQ(g.steps_one(), 11);
+  EXPECT_EQ(g.steps_max(), 10 + 11 + 250);
+  EXPECT_EQ(g.threads(), 2);
+}
+
+TEST(ThreadGovernor, NoProbeOfMoreThreadsWhileTheOtherCoresAreBusy) {
+  ThreadGovernor g(2, 10, 0.0, 15);
+  bool room = true;
+  int asked = 0;
+  g.set_room_check([&](int) {
+    ++asked;
+    return room;
+  });
+  // the start with room (asked at the end of the untimed block): a timed
+  // block on two threads, then one thread; two threads 3x dearer (the load
+  // came after the start)
+  const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
+  feed(g, 10 + 10 + 11, loaded);
+  ASSERT_EQ(g.threads(), 1);
+  ASSERT_EQ(asked, 1);
+  const std::int64_t max_before = g.steps_max();
+  // no room: the probe of two threads due after 15 x 3 = 45 blocks (the
+  // start's one-thread block is the first: block 44 of these 2000) is not
+  // run; the room is asked then and after 1, 2, 4, 8 and then every 15
+  // blocks: at blocks 44, 45, 47, 51, 59, 74, 89, .. 1994
+  room = false;
+  feed(g, 20000, loaded);
+  EXPECT_EQ(g.steps_max(), max_before);  // with room: 20000 / 45 probe blocks and more
+  EXPECT_EQ(asked, 1 + 5 + (2000 - 59) / 15);
+  // room again: two threads are probed within 15 blocks
+  room = true;
+  const std::int64_t one_before = g.steps_one();
+  while (g.threads() == 1 && g.steps_one() - one_before <= 200) g.record_step(loaded(1));
+  EXPECT_LE(g.steps_one() - one_before, 150);
+  EXPECT_EQ(g.threads(), 2);
 }
 
 TEST(ThreadGovernor, TheRunsFirstBlockIsNotTimed) {

@@ -67,6 +67,23 @@
 // `auto` 1.007x one thread. Quiet (dense_4000.h5, 6000 steps, 10 rounds)
 // the choices were the same: 82-114 steps on one thread against 82-115,
 // and 502 against 512 in one round that hit a slow phase of the host.
+//   - room (session 18): before it runs max_threads where one thread would
+//     do, the governor asks whether each extra thread finds a free core
+//     (set_room_check; machine_load.h on this machine: no other runnable
+//     task for it): at the end of the run's first block (which runs
+//     max_threads) and when a probe of max_threads is due. No room: one
+//     thread goes on (after the first block with max_threads unmeasured, a
+//     probe due at once), and the question is asked again after 1, 2, 4, ..
+//     blocks, at most exploit_blocks apart, back to 1 once there is room.
+//     Beside one busy process the runs then take no two-thread step after
+//     the first block. The answer is a snapshot, so it is not asked before
+//     the first step: there, in quiet runs of dense_4000.h5 (session 18),
+//     the shell reading triax_bench's output was often runnable, waiting
+//     for the core this process's OpenMP thread still spun on after the
+//     preparation, and a run that started on one thread then spent about
+//     two blocks more on it; the short first waits keep such a "no" to a
+//     block or two. Without a check (the default, and in tests unless
+//     set) there is always room.
 // With max_threads == 1 it never changes anything.
 //
 // Too little work for the threads: a thread takes whole 512-particle chunks
@@ -83,6 +100,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <utility>
 
 namespace vt::dem {
 
@@ -104,6 +123,12 @@ class ThreadGovernor {
   /// that lowers it starts the governor afresh (no cost or block kept).
   void limit_to_chunks(std::int32_t chunks);
 
+  /// Whether `threads` threads would each find a free core now (asked
+  /// before running max_threads where one thread would do).
+  using RoomCheck = std::function<bool(int threads)>;
+  /// Sets the room check (kept by limit_to_chunks); an empty one: always room.
+  void set_room_check(RoomCheck room) { room_ = std::move(room); }
+
   /// Thread count for the next step.
   int threads() const { return current_; }
   /// Account one step of `seconds` wall time (run with threads()).
@@ -124,6 +149,10 @@ class ThreadGovernor {
   int slot(int t) const { return t == 1 ? 0 : 1; }
   void end_block();
   void choose_next();  ///< the count of the next block
+  bool room() const { return !room_ || room_(max_); }
+  /// room(), asked after 1, 2, 4, .. exploit_ blocks while it says no (a
+  /// block's end that does not ask says no)
+  bool room_after_wait();
 
   int max_;
   std::int64_t min_steps_;
@@ -140,6 +169,9 @@ class ThreadGovernor {
   std::int64_t steps_[2] = {0, 0};
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count
+  RoomCheck room_;
+  int room_wait_ = 1;         ///< blocks from a "no room" to the next question (1, 2, 4, .. exploit_)
+  int room_blocks_left_ = 0;  ///< blocks before the next question
   bool warming_ = true;    ///< in the run's first block (counted, not timed)
   bool probing_ = false;   ///< the running block probes the other count
   int backoff_ = 1;        ///< factor of the probe spacing (1, 2, .., kMaxProbeBackoff)

@@ -1,0 +1,57 @@
+// Is there a free core for more threads of this process now? (issue 13,
+// graceful under load; used by ThreadGovernor before it runs max_threads.)
+//
+// Beside one busy process on two cores, every block the governor runs on two
+// threads costs about 2.5x a one-thread block at 12 000 spheres: the start's
+// two-thread blocks (about 40 steps) and the probes of two threads (one block
+// every 30 r b, thread_governor.h) made `auto` about 1 % slower than one
+// thread (session 17: 1.012x, 28 rounds, bench/beside_busy.sh). Those blocks
+// cannot win while every other core holds a runnable task, so the governor
+// asks first and runs them only when there is room:
+//
+//   others = R - R_self                       (tasks)
+//   room for T threads  <=>  others <= C - T
+//
+// R: the tasks runnable on the machine now (/proc/loadavg, 4th field
+// "R/total", every CPU, this process's running threads included); R_self:
+// this process's threads in state R (/proc/self/task/*/stat); C: the online
+// CPUs. A snapshot: a load that runs part of the time is seen at that share
+// of the checks, and the governor's timings still decide once the threads
+// run. No check (room assumed, the behaviour before session 18) when this
+// process may run on fewer CPUs than are online (an affinity mask or a
+// cpuset, e.g. a Slurm job on some cores of a node: the system-wide count
+// does not say which cores are busy) or /proc cannot be read. A question
+// costs about 25 us (a one-thread process; the governor asks at most once
+// a block, and beside a busy process once in 30 blocks).
+//
+// Measured (session 18, bench/beside_busy.sh, 12 000 spheres, 12 000
+// steps, `yes` beside): 20 of 12 051 steps on two threads (the first
+// block), session 17's build 82-187; `auto` 1.012x one thread over 24
+// interleaved rounds, 13 of them slower (rounds scatter by 5-10 %).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "virtual_triaxial/dem/thread_governor.h"
+
+namespace vt::dem {
+
+/// The running count R of a /proc/loadavg line ("0.50 0.40 0.30 2/345 6789");
+/// nullopt when the line is not of that form.
+std::optional<int> loadavg_running(const std::string& line);
+/// The state letter of a /proc/<pid>/task/<tid>/stat line (the field after
+/// the command's closing parenthesis, which may itself hold ") "); '\0' when
+/// malformed.
+char task_state(const std::string& stat_line);
+/// This process's threads in state R now; nullopt when /proc cannot be read.
+std::optional<int> own_running_threads();
+/// others = R - R_self now, at least 0; nullopt when /proc cannot be read.
+std::optional<int> other_runnable_tasks();
+/// The rule above: `threads` threads each find a core when others <= cpus - threads.
+bool room_for(int threads, int others, int cpus);
+/// A governor up to max_threads whose room check is the rule above on this
+/// machine (the one used by the DEM node, triax_run and triax_bench).
+ThreadGovernor governor_on_this_machine(int max_threads);
+
+}  // namespace vt::dem

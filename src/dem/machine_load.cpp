@@ -1,0 +1,99 @@
+#include "virtual_triaxial/dem/machine_load.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#ifdef __linux__
+#include <dirent.h>
+#include <sched.h>
+#include <unistd.h>
+#endif
+
+namespace vt::dem {
+
+std::optional<int> loadavg_running(const std::string& line) {
+  std::istringstream in(line);
+  double l1 = 0, l5 = 0, l15 = 0;
+  std::string counts;
+  if (!(in >> l1 >> l5 >> l15 >> counts)) return std::nullopt;
+  const std::size_t slash = counts.find('/');
+  if (slash == 0 || slash == std::string::npos || slash + 1 == counts.size()) return std::nullopt;
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  const std::string running = counts.substr(0, slash);
+  if (!digits(running) || !digits(counts.substr(slash + 1)) || running.size() > 9) return std::nullopt;
+  return std::stoi(running);
+}
+
+char task_state(const std::string& stat_line) {
+  const std::size_t close = stat_line.rfind(')');
+  if (close == std::string::npos || close + 2 >= stat_line.size() || stat_line[close + 1] != ' ') return '\0';
+  return stat_line[close + 2];
+}
+
+std::optional<int> own_running_threads() {
+#ifdef __linux__
+  DIR* dir = opendir("/proc/self/task");
+  if (dir == nullptr) return std::nullopt;
+  int running = 0;
+  while (const dirent* e = readdir(dir)) {
+    if (e->d_name[0] == '.') continue;
+    std::ifstream stat(std::string("/proc/self/task/") + e->d_name + "/stat");
+    std::string line;
+    // a thread that ended since readdir has no stat: not running
+    if (std::getline(stat, line) && task_state(line) == 'R') ++running;
+  }
+  closedir(dir);
+  return running;
+#else
+  return std::nullopt;
+#endif
+}
+
+std::optional<int> other_runnable_tasks() {
+  // this process's threads first: one that stops running between the two
+  // reads (an OpenMP thread ending its spin-wait) is then subtracted though
+  // R no longer holds it: this process's threads make others err low (room),
+  // not high
+  const std::optional<int> own = own_running_threads();
+  std::ifstream loadavg("/proc/loadavg");
+  std::string line;
+  if (!std::getline(loadavg, line)) return std::nullopt;
+  const std::optional<int> all = loadavg_running(line);
+  if (!all || !own) return std::nullopt;
+  return std::max(0, *all - *own);
+}
+
+bool room_for(int threads, int others, int cpus) { return others <= cpus - threads; }
+
+namespace {
+
+/// Online CPUs when this process may run on all of them, else 0 (no check).
+int cpus_to_check() {
+#ifdef __linux__
+  const long online = sysconf(_SC_NPROCESSORS_ONLN);
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (online < 1 || sched_getaffinity(0, sizeof(mask), &mask) != 0) return 0;
+  return CPU_COUNT(&mask) < online ? 0 : static_cast<int>(online);
+#else
+  return 0;
+#endif
+}
+
+}  // namespace
+
+ThreadGovernor governor_on_this_machine(int max_threads) {
+  ThreadGovernor g(max_threads);
+  g.set_room_check([](int threads) {
+    const int cpus = cpus_to_check();
+    if (cpus == 0) return true;
+    const std::optional<int> others = other_runnable_tasks();
+    return !others || room_for(threads, *others, cpus);
+  });
+  return g;
+}
+
+}  // namespace vt::dem

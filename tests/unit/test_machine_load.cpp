@@ -1,0 +1,108 @@
+// Room for more threads (dem/machine_load.h): the parts of /proc it reads,
+// the rule others <= cpus - threads, and on this machine: this process's
+// running threads are not others, busy processes are, and a governor
+// beside cpus - 1 of them runs one thread after its first block.
+#include <gtest/gtest.h>
+#include <sched.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "virtual_triaxial/dem/machine_load.h"
+
+using namespace vt::dem;
+
+TEST(MachineLoad, ReadsTheRunningCountOfLoadavg) {
+  EXPECT_EQ(loadavg_running("0.50 0.40 0.30 2/345 6789"), 2);
+  EXPECT_EQ(loadavg_running("12.00 8.10 3.02 17/1024 1\n"), 17);
+  EXPECT_FALSE(loadavg_running(""));
+  EXPECT_FALSE(loadavg_running("0.50 0.40 0.30 /345 6789"));
+  EXPECT_FALSE(loadavg_running("0.50 0.40 0.30 2/ 6789"));
+  EXPECT_FALSE(loadavg_running("0.50 0.40 0.30 2x/345 6789"));
+  EXPECT_FALSE(loadavg_running("0.50 0.40 2/345"));
+}
+
+TEST(MachineLoad, ReadsTheStateAfterTheCommand) {
+  EXPECT_EQ(task_state("4242 (triax_bench) R 1 4242 4242 0 -1"), 'R');
+  EXPECT_EQ(task_state("4243 (a) b) S 1 4242"), 'S');  // a command may hold ") "
+  EXPECT_EQ(task_state("4243 (a"), '\0');
+  EXPECT_EQ(task_state("4243 (a)"), '\0');
+  EXPECT_EQ(task_state("4243 (a)R"), '\0');
+}
+
+TEST(MachineLoad, RoomWhenEveryThreadFindsACore) {
+  EXPECT_TRUE(room_for(2, 0, 2));
+  EXPECT_FALSE(room_for(2, 1, 2));
+  EXPECT_TRUE(room_for(4, 4, 8));
+  EXPECT_FALSE(room_for(4, 5, 8));
+  EXPECT_TRUE(room_for(1, 0, 1));
+}
+
+TEST(MachineLoad, ThisProcesssRunningThreadsAreItsOwn) {
+  const std::optional<int> alone = own_running_threads();
+  ASSERT_TRUE(alone);
+  EXPECT_GE(*alone, 1);  // the caller runs
+  std::atomic<bool> stop{false};
+  std::thread spinner([&] {
+    while (!stop.load(std::memory_order_relaxed)) {
+    }
+  });
+  const std::optional<int> two = own_running_threads();  // a spinning thread is R, running or queued
+  stop = true;
+  spinner.join();
+  ASSERT_TRUE(two);
+  EXPECT_GE(*two, 2);
+}
+
+namespace {
+
+/// `n` child processes that spin until killed.
+struct BusyChildren {
+  explicit BusyChildren(int n) {
+    for (int k = 0; k < n; ++k) {
+      const pid_t pid = fork();
+      if (pid == 0)
+        for (volatile unsigned long x = 0;; x = x + 1) {
+        }
+      if (pid > 0) pids.push_back(pid);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // all of them running
+  }
+  ~BusyChildren() {
+    for (pid_t p : pids) kill(p, SIGKILL);
+    for (pid_t p : pids) waitpid(p, nullptr, 0);
+  }
+  std::vector<pid_t> pids;
+};
+
+}  // namespace
+
+TEST(MachineLoad, BusyProcessesAreOthersAndLeaveNoRoom) {
+  const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  ASSERT_GE(cpus, 1);
+  ASSERT_LE(cpus, 64) << "forks cpus - 1 busy children";
+  const int busy = static_cast<int>(std::max(1L, cpus - 1));
+  BusyChildren children(busy);
+  ASSERT_EQ(static_cast<int>(children.pids.size()), busy);
+  const std::optional<int> others = other_runnable_tasks();
+  ASSERT_TRUE(others);
+  EXPECT_GE(*others, busy);
+  // beside cpus - 1 busy processes two threads find no room, so a governor
+  // on this machine goes to one thread after the first block (20 steps and
+  // 0.02 s); a process bound to some of the CPUs is not checked (the count
+  // is the machine's), and times two threads next
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(mask), &mask), 0);
+  const bool checked = CPU_COUNT(&mask) >= cpus;
+  ThreadGovernor g = governor_on_this_machine(2);
+  ASSERT_EQ(g.threads(), 2);
+  for (int k = 0; k < 20; ++k) g.record_step(2e-3);
+  EXPECT_EQ(g.threads(), checked ? 1 : 2);
+}
