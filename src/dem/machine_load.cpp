@@ -14,8 +14,7 @@ namespace vt::dem {
 
 std::optional<int> loadavg_running(const std::string& line) {
   std::istringstream in(line);
-  double l1 = 0, l5 = 0, l15 = 0;
-  std::string counts;
+  std::string l1, l5, l15, counts;  // the averages as text: no locale in the way
   if (!(in >> l1 >> l5 >> l15 >> counts)) return std::nullopt;
   const std::size_t slash = counts.find('/');
   if (slash == 0 || slash == std::string::npos || slash + 1 == counts.size()) return std::nullopt;
@@ -55,8 +54,8 @@ std::optional<int> own_running_threads() {
 std::optional<int> other_runnable_tasks() {
   // this process's threads first: one that stops running between the two
   // reads (an OpenMP thread ending its spin-wait) is then subtracted though
-  // R no longer holds it: this process's threads make others err low (room),
-  // not high
+  // R no longer holds it (others errs low: room); one that starts running
+  // between them (a ROS spinner woken) makes others err high by one
   const std::optional<int> own = own_running_threads();
   std::ifstream loadavg("/proc/loadavg");
   std::string line;
@@ -66,7 +65,7 @@ std::optional<int> other_runnable_tasks() {
   return std::max(0, *all - *own);
 }
 
-bool room_for(int threads, int others, int cpus) { return others <= cpus - threads; }
+bool room_for(int threads, int others, int cpus) { return threads > 1 && others <= cpus - 2; }
 
 namespace {
 

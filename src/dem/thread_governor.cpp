@@ -55,7 +55,7 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
         current_ = 1;
         switched_ = true;
         blocks_since_probe_ = exploit_;  // a probe due at once (r = 1 while max_threads is unmeasured)
-        room_wait_ = 2;  // this was the first "no": the next question after 1 block, then 2
+        room_wait_ = std::min(2, exploit_);  // this was the first "no": the next question after 1 block, then 2
       }
     }
     return;
@@ -78,6 +78,7 @@ void ThreadGovernor::end_block() {
   // ran before it) gives its own cost, however old that count's last block.
   const double block = block_seconds_ / static_cast<double>(block_steps_);
   const int s = slot(current_);
+  const bool first_cost = cost_[s] == 0.0;
   cost_[s] = previous_block_ > 0.0 && previous_slot_ == s ? std::min(block, previous_block_) : block;
   previous_block_ = block;
   previous_slot_ = s;
@@ -85,11 +86,11 @@ void ThreadGovernor::end_block() {
   block_seconds_ = 0;
   untimed_ = 0;
   const int before = current_;
-  choose_next();
+  choose_next(first_cost);
   switched_ = current_ != before;
 }
 
-void ThreadGovernor::choose_next() {
+void ThreadGovernor::choose_next(bool first_cost) {
   if (cost_[0] == 0) {  // start: max_threads measured, now 1
     current_ = 1;
     return;
@@ -99,7 +100,9 @@ void ThreadGovernor::choose_next() {
   const int other = best == 1 ? max_ : 1;
   if (probing_) {  // the block that ended probed the other count
     probing_ = false;
-    backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
+    // its first cost (max_threads after no room at the start) confirms nothing
+    if (best == current_) backoff_ = 1;
+    else if (!first_cost) backoff_ = std::min(2 * backoff_, kMaxProbeBackoff);
   } else if (best != current_) {
     // the running count got dearer than the other: the load changed.
     // blocks_since_probe_ is kept, so the count just left is probed again

@@ -1,10 +1,11 @@
 // Room for more threads (dem/machine_load.h): the parts of /proc it reads,
-// the rule others <= cpus - threads, and on this machine: this process's
+// the rule others <= cpus - 2, and on this machine: this process's
 // running threads are not others, busy processes are, and a governor
 // beside cpus - 1 of them runs one thread after its first block.
 #include <gtest/gtest.h>
 #include <sched.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -36,12 +37,17 @@ TEST(MachineLoad, ReadsTheStateAfterTheCommand) {
   EXPECT_EQ(task_state("4243 (a)R"), '\0');
 }
 
-TEST(MachineLoad, RoomWhenEveryThreadFindsACore) {
+TEST(MachineLoad, RoomWhenAnExtraThreadFindsAFreeCore) {
   EXPECT_TRUE(room_for(2, 0, 2));
   EXPECT_FALSE(room_for(2, 1, 2));
-  EXPECT_TRUE(room_for(4, 4, 8));
-  EXPECT_FALSE(room_for(4, 5, 8));
-  EXPECT_TRUE(room_for(1, 0, 1));
+  EXPECT_FALSE(room_for(2, 0, 1));  // one CPU: no core for an extra thread
+  // 8 threads on 8 cores beside one busy task: one shares a core, the
+  // other seven have theirs
+  EXPECT_TRUE(room_for(8, 1, 8));
+  EXPECT_TRUE(room_for(8, 6, 8));
+  EXPECT_FALSE(room_for(8, 7, 8));
+  EXPECT_TRUE(room_for(4, 0, 2));  // more threads than CPUs: the timings decide
+  EXPECT_FALSE(room_for(1, 0, 8));
 }
 
 TEST(MachineLoad, ThisProcesssRunningThreadsAreItsOwn) {
@@ -62,17 +68,20 @@ TEST(MachineLoad, ThisProcesssRunningThreadsAreItsOwn) {
 
 namespace {
 
-/// `n` child processes that spin until killed.
+/// `n` child processes that spin until killed (or until this process ends).
 struct BusyChildren {
   explicit BusyChildren(int n) {
+    const pid_t parent = getpid();
     for (int k = 0; k < n; ++k) {
       const pid_t pid = fork();
-      if (pid == 0)
+      if (pid == 0) {
+        prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (getppid() != parent) _exit(0);  // the parent ended before prctl
         for (volatile unsigned long x = 0;; x = x + 1) {
         }
+      }
       if (pid > 0) pids.push_back(pid);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // all of them running
   }
   ~BusyChildren() {
     for (pid_t p : pids) kill(p, SIGKILL);
@@ -81,28 +90,43 @@ struct BusyChildren {
   std::vector<pid_t> pids;
 };
 
+/// The most others seen in `looks` snapshots 5 ms apart (a container's CPU
+/// quota takes throttled tasks off the run queue for part of each period).
+int most_others(int looks) {
+  int most = -1;
+  for (int k = 0; k < looks; ++k) {
+    if (k > 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (const std::optional<int> o = other_runnable_tasks()) most = std::max(most, *o);
+  }
+  return most;
+}
+
 }  // namespace
 
 TEST(MachineLoad, BusyProcessesAreOthersAndLeaveNoRoom) {
   const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
   ASSERT_GE(cpus, 1);
-  ASSERT_LE(cpus, 64) << "forks cpus - 1 busy children";
+  if (cpus > 64) GTEST_SKIP() << "would fork " << cpus - 1 << " busy children; this test runs up to 64 CPUs";
   const int busy = static_cast<int>(std::max(1L, cpus - 1));
   BusyChildren children(busy);
   ASSERT_EQ(static_cast<int>(children.pids.size()), busy);
-  const std::optional<int> others = other_runnable_tasks();
-  ASSERT_TRUE(others);
-  EXPECT_GE(*others, busy);
-  // beside cpus - 1 busy processes two threads find no room, so a governor
-  // on this machine goes to one thread after the first block (20 steps and
-  // 0.02 s); a process bound to some of the CPUs is not checked (the count
-  // is the machine's), and times two threads next
+  EXPECT_GE(most_others(20), busy);
+  // beside cpus - 1 busy processes no extra thread finds a free core, so a
+  // governor on this machine goes to one thread after its first block (20
+  // steps and 0.02 s; a fresh governor each try, at most 5, in case a quota
+  // hid the children at that instant); a process bound to some of the CPUs
+  // is not checked (the count is the machine's), and times two threads next
   cpu_set_t mask;
   CPU_ZERO(&mask);
   ASSERT_EQ(sched_getaffinity(0, sizeof(mask), &mask), 0);
   const bool checked = CPU_COUNT(&mask) >= cpus;
-  ThreadGovernor g = governor_on_this_machine(2);
-  ASSERT_EQ(g.threads(), 2);
-  for (int k = 0; k < 20; ++k) g.record_step(2e-3);
-  EXPECT_EQ(g.threads(), checked ? 1 : 2);
+  int after_first_block = 0;
+  for (int attempt = 0; attempt < 5 && after_first_block != 1; ++attempt) {
+    ThreadGovernor g = governor_on_this_machine(2);
+    ASSERT_EQ(g.threads(), 2);
+    for (int k = 0; k < 20; ++k) g.record_step(2e-3);
+    after_first_block = g.threads();
+    if (!checked) break;
+  }
+  EXPECT_EQ(after_first_block, checked ? 1 : 2);
 }

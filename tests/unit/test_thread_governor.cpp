@@ -195,6 +195,26 @@ TEST(ThreadGovernor, AMomentaryNoRoomCostsOneBlock) {
   EXPECT_EQ(g.threads(), 2);
 }
 
+TEST(ThreadGovernor, TheFirstCostOfTwoThreadsIsNoConfirmingProbe) {
+  // no room after the first block, room from then on; two threads 3x
+  // dearer. Their first timed block (a probe right after one one-thread
+  // block) measures them: it does not double the spacing, so the next
+  // probe comes 15 x 3 = 45 blocks later (with the doubling: 90), then 90
+  ThreadGovernor g(2, 10, 0.0, 15);
+  int asked = 0;
+  g.set_room_check([&](int) { return ++asked > 1; });
+  const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
+  feed(g, 10 + 11, loaded);  // the first block, one one-thread block
+  ASSERT_EQ(g.threads(), 2);
+  ASSERT_EQ(g.cost_max(), 0.0);
+  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 2, 4000, true);
+  ASSERT_EQ(gaps.size(), 2u);
+  EXPECT_NEAR(g.cost_max(), 3e-3, 1e-15);
+  // each gap holds the first step after the switch back (untimed)
+  EXPECT_EQ(gaps[0], 10 * 45 + 1);
+  EXPECT_EQ(gaps[1], 10 * 90 + 1);
+}
+
 TEST(ThreadGovernor, NoProbeOfMoreThreadsWhileTheOtherCoresAreBusy) {
   ThreadGovernor g(2, 10, 0.0, 15);
   bool room = true;
@@ -217,7 +237,7 @@ TEST(ThreadGovernor, NoProbeOfMoreThreadsWhileTheOtherCoresAreBusy) {
   // blocks: at blocks 44, 45, 47, 51, 59, 74, 89, .. 1994
   room = false;
   feed(g, 20000, loaded);
-  EXPECT_EQ(g.steps_max(), max_before);  // with room: 20000 / 45 probe blocks and more
+  EXPECT_EQ(g.steps_max(), max_before);  // with room: probes after 45, 90, 180, 180 .. blocks
   EXPECT_EQ(asked, 1 + 5 + (2000 - 59) / 15);
   // room again: two threads are probed within 15 blocks
   room = true;

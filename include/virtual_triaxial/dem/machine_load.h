@@ -10,7 +10,13 @@
 // asks first and runs them only when there is room:
 //
 //   others = R - R_self                       (tasks)
-//   room for T threads  <=>  others <= C - T
+//   room for T > 1 threads  <=>  others <= C - 2
+//
+// i.e. at least one core besides the caller's is free for an extra thread.
+// Not "a core for each of the T threads": on 8 cores with one other busy
+// task, 8 threads, one of them sharing a core, still beat one thread by
+// several times, and the governor's timings say so; and T may exceed C
+// (OMP_NUM_THREADS above the CPUs), where the timings decide as well.
 //
 // R: the tasks runnable on the machine now (/proc/loadavg, 4th field
 // "R/total", every CPU, this process's running threads included); R_self:
@@ -48,7 +54,7 @@ char task_state(const std::string& stat_line);
 std::optional<int> own_running_threads();
 /// others = R - R_self now, at least 0; nullopt when /proc cannot be read.
 std::optional<int> other_runnable_tasks();
-/// The rule above: `threads` threads each find a core when others <= cpus - threads.
+/// The rule above: room for `threads` (> 1) threads when others <= cpus - 2.
 bool room_for(int threads, int others, int cpus);
 /// A governor up to max_threads whose room check is the rule above on this
 /// machine (the one used by the DEM node, triax_run and triax_bench).

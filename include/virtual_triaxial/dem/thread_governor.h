@@ -33,7 +33,8 @@
 //     first two-thread block of a 3470-step shear of dense_4000.h5 cost 346
 //     us per step against 186-190 for every later one, so the one-thread
 //     probe (339) won and 1184 of the 3470 steps ran on one thread;
-//   - probe: the first timed block runs max_threads, the second 1; afterwards the
+//   - probe: the first timed block runs max_threads (1 when there is no room,
+//     below), the second 1; afterwards the
 //     cheaper count runs, and after ceil(exploit_blocks r b) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
 //     so that its cost is current;
@@ -68,9 +69,9 @@
 // the choices were the same: 82-114 steps on one thread against 82-115,
 // and 502 against 512 in one round that hit a slow phase of the host.
 //   - room (session 18): before it runs max_threads where one thread would
-//     do, the governor asks whether each extra thread finds a free core
-//     (set_room_check; machine_load.h on this machine: no other runnable
-//     task for it): at the end of the run's first block (which runs
+//     do, the governor asks whether an extra thread finds a free core
+//     (set_room_check; machine_load.h on this machine: fewer other runnable
+//     tasks than the other cores): at the end of the run's first block (which runs
 //     max_threads) and when a probe of max_threads is due. No room: one
 //     thread goes on (after the first block with max_threads unmeasured, a
 //     probe due at once), and the question is asked again after 1, 2, 4, ..
@@ -123,8 +124,9 @@ class ThreadGovernor {
   /// that lowers it starts the governor afresh (no cost or block kept).
   void limit_to_chunks(std::int32_t chunks);
 
-  /// Whether `threads` threads would each find a free core now (asked
-  /// before running max_threads where one thread would do).
+  /// Whether running `threads` threads could pay now (asked before running
+  /// max_threads where one thread would do; machine_load.h: a free core
+  /// for at least one extra thread).
   using RoomCheck = std::function<bool(int threads)>;
   /// Sets the room check (kept by limit_to_chunks); an empty one: always room.
   void set_room_check(RoomCheck room) { room_ = std::move(room); }
@@ -148,7 +150,9 @@ class ThreadGovernor {
  private:
   int slot(int t) const { return t == 1 ? 0 : 1; }
   void end_block();
-  void choose_next();  ///< the count of the next block
+  /// The count of the next block; first_cost: the block that ended measured
+  /// its count for the first time (as a probe, it then confirms nothing).
+  void choose_next(bool first_cost);
   bool room() const { return !room_ || room_(max_); }
   /// room(), asked after 1, 2, 4, .. exploit_ blocks while it says no (a
   /// block's end that does not ask says no)
