@@ -67,10 +67,7 @@ std::optional<int> other_runnable_tasks() {
 
 bool room_for(int threads, int others, int cpus) { return threads > 1 && others <= cpus - 2; }
 
-namespace {
-
-/// Online CPUs when this process may run on all of them, else 0 (no check).
-int cpus_to_check() {
+int checked_cpus() {
 #ifdef __linux__
   const long online = sysconf(_SC_NPROCESSORS_ONLN);
   cpu_set_t mask;
@@ -82,12 +79,10 @@ int cpus_to_check() {
 #endif
 }
 
-}  // namespace
-
 ThreadGovernor governor_on_this_machine(int max_threads) {
   ThreadGovernor g(max_threads);
   g.set_room_check([](int threads) {
-    const int cpus = cpus_to_check();
+    const int cpus = checked_cpus();
     if (cpus == 0) return true;
     const std::optional<int> others = other_runnable_tasks();
     return !others || room_for(threads, *others, cpus);

@@ -51,11 +51,10 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
     warm_seconds_ += seconds;
     if (++warm_steps_ >= min_steps_ && warm_seconds_ >= min_seconds_) {
       warming_ = false;
-      if (!room()) {  // the other cores are busy: one thread, max_threads asked for again after its first block
+      if (!room_after_wait()) {  // the other cores are busy: one thread, max_threads asked for again after its first block
         current_ = 1;
         switched_ = true;
         blocks_since_probe_ = exploit_;  // a probe due at once (r = 1 while max_threads is unmeasured)
-        room_wait_ = std::min(2, exploit_);  // this was the first "no": the next question after 1 block, then 2
       }
     }
     return;
@@ -121,6 +120,10 @@ void ThreadGovernor::choose_next(bool first_cost) {
     probing_ = true;
   } else {
     current_ = best;
+  }
+  if (current_ == max_) {  // running max_threads: the next "no room" waits from 1 again
+    room_wait_ = 1;
+    room_blocks_left_ = 0;
   }
 }
 

@@ -37,6 +37,27 @@ TEST(MachineLoad, ReadsTheStateAfterTheCommand) {
   EXPECT_EQ(task_state("4243 (a)R"), '\0');
 }
 
+TEST(MachineLoad, ChecksAProcessThatMayRunOnEveryCpu) {
+  // the online CPUs when the affinity mask holds them all, else 0
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(mask), &mask), 0);
+  const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+  EXPECT_EQ(checked_cpus(), CPU_COUNT(&mask) >= cpus ? cpus : 0);
+  if (CPU_COUNT(&mask) < 2) return;  // bound to one CPU already: the narrowing below needs two
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &mask)) {
+      CPU_SET(c, &one);
+      break;
+    }
+  ASSERT_EQ(sched_setaffinity(0, sizeof(one), &one), 0);
+  const int narrowed = checked_cpus();
+  ASSERT_EQ(sched_setaffinity(0, sizeof(mask), &mask), 0);
+  EXPECT_EQ(narrowed, 0);  // bound to one of several CPUs: no check
+}
+
 TEST(MachineLoad, RoomWhenAnExtraThreadFindsAFreeCore) {
   EXPECT_TRUE(room_for(2, 0, 2));
   EXPECT_FALSE(room_for(2, 1, 2));
@@ -116,10 +137,7 @@ TEST(MachineLoad, BusyProcessesAreOthersAndLeaveNoRoom) {
   // steps and 0.02 s; a fresh governor each try, at most 5, in case a quota
   // hid the children at that instant); a process bound to some of the CPUs
   // is not checked (the count is the machine's), and times two threads next
-  cpu_set_t mask;
-  CPU_ZERO(&mask);
-  ASSERT_EQ(sched_getaffinity(0, sizeof(mask), &mask), 0);
-  const bool checked = CPU_COUNT(&mask) >= cpus;
+  const bool checked = checked_cpus() > 0;
   int after_first_block = 0;
   for (int attempt = 0; attempt < 5 && after_first_block != 1; ++attempt) {
     ThreadGovernor g = governor_on_this_machine(2);

@@ -16,7 +16,8 @@
 // Not "a core for each of the T threads": on 8 cores with one other busy
 // task, 8 threads, one of them sharing a core, still beat one thread by
 // several times, and the governor's timings say so; and T may exceed C
-// (OMP_NUM_THREADS above the CPUs), where the timings decide as well.
+// (OMP_NUM_THREADS above the CPUs), where the timings decide as well (on
+// C >= 2; one CPU never has room for an extra thread).
 //
 // R: the tasks runnable on the machine now (/proc/loadavg, 4th field
 // "R/total", every CPU, this process's running threads included); R_self:
@@ -56,6 +57,9 @@ std::optional<int> own_running_threads();
 std::optional<int> other_runnable_tasks();
 /// The rule above: room for `threads` (> 1) threads when others <= cpus - 2.
 bool room_for(int threads, int others, int cpus);
+/// The online CPUs when this process may run on all of them (the room is
+/// checked), else 0 (an affinity mask or cpuset: no check).
+int checked_cpus();
 /// A governor up to max_threads whose room check is the rule above on this
 /// machine (the one used by the DEM node, triax_run and triax_bench).
 ThreadGovernor governor_on_this_machine(int max_threads);

@@ -33,13 +33,15 @@
 //     first two-thread block of a 3470-step shear of dense_4000.h5 cost 346
 //     us per step against 186-190 for every later one, so the one-thread
 //     probe (339) won and 1184 of the 3470 steps ran on one thread;
-//   - probe: the first timed block runs max_threads (1 when there is no room,
-//     below), the second 1; afterwards the
-//     cheaper count runs, and after ceil(exploit_blocks r b) blocks, r = cost
+//   - probe: the first timed block runs max_threads, the second 1 (when
+//     there is no room after the first block, below: one thread, and
+//     max_threads once there is); afterwards the cheaper count runs, and after ceil(exploit_blocks r b) blocks, r = cost
 //     ratio worse/better clamped to [1, 64], the other count runs one block
 //     so that its cost is current;
 //   - backoff b: 1 at the start; a probe that confirms the running count
-//     doubles it, up to kMaxProbeBackoff = 4; a probe that wins, or the
+//     doubles it, up to kMaxProbeBackoff = 4 (not max_threads' first cost,
+//     measured by a probe after no room at the start: it confirms nothing
+//     yet); a probe that wins, or the
 //     running count turning dearer than the other's last cost, sets it
 //     back to 1. A rise of the running count's cost is seen in its own
 //     blocks; a fall of the other's, at the next probe, within
@@ -84,7 +86,10 @@
 //     preparation, and a run that started on one thread then spent about
 //     two blocks more on it; the short first waits keep such a "no" to a
 //     block or two. Without a check (the default, and in tests unless
-//     set) there is always room.
+//     set) there is always room. A switch to max_threads because the
+//     timings say one thread got dearer (a load on this process's core) is
+//     not asked about: the timings decide it, and the waits start again
+//     at 1 for the next probe of max_threads.
 // With max_threads == 1 it never changes anything.
 //
 // Too little work for the threads: a thread takes whole 512-particle chunks
