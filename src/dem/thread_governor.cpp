@@ -77,7 +77,6 @@ void ThreadGovernor::end_block() {
   // ran before it) gives its own cost, however old that count's last block.
   const double block = block_seconds_ / static_cast<double>(block_steps_);
   const int s = slot(current_);
-  const bool first_cost = cost_[s] == 0.0;
   cost_[s] = previous_block_ > 0.0 && previous_slot_ == s ? std::min(block, previous_block_) : block;
   previous_block_ = block;
   previous_slot_ = s;
@@ -85,11 +84,11 @@ void ThreadGovernor::end_block() {
   block_seconds_ = 0;
   untimed_ = 0;
   const int before = current_;
-  choose_next(first_cost);
+  choose_next();
   switched_ = current_ != before;
 }
 
-void ThreadGovernor::choose_next(bool first_cost) {
+void ThreadGovernor::choose_next() {
   if (cost_[0] == 0) {  // start: max_threads measured, now 1
     current_ = 1;
     return;
@@ -99,11 +98,10 @@ void ThreadGovernor::choose_next(bool first_cost) {
   const int other = best == 1 ? max_ : 1;
   if (probing_) {  // the block that ended probed the other count
     probing_ = false;
-    // its first cost (max_threads after no room at the start) confirms nothing
-    if (best == current_) backoff_ = 1;
-    else if (!first_cost) backoff_ = std::min(2 * backoff_, kMaxProbeBackoff);
+    backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
   } else if (best != current_) {
-    // the running count got dearer than the other: the load changed.
+    // the running count got dearer than the other: the load changed (or
+    // max_threads' first measurement lost: b stays 1).
     // blocks_since_probe_ is kept, so the count just left is probed again
     // soon: a second look, in case the change was a hiccup of the host
     backoff_ = 1;
@@ -117,7 +115,9 @@ void ThreadGovernor::choose_next(bool first_cost) {
     if (other == max_ && !room_after_wait()) return;  // the other cores are busy: one thread goes on
     blocks_since_probe_ = 0;
     current_ = other;  // one block to refresh the other count's cost
-    probing_ = true;
+    // a block that gives a count its first cost (max_threads after no room
+    // at the start) is a measurement, not a probe: it confirms nothing
+    probing_ = cost_[slot(other)] != 0.0;
   } else {
     current_ = best;
   }

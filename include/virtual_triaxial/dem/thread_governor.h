@@ -155,9 +155,7 @@ class ThreadGovernor {
  private:
   int slot(int t) const { return t == 1 ? 0 : 1; }
   void end_block();
-  /// The count of the next block; first_cost: the block that ended measured
-  /// its count for the first time (as a probe, it then confirms nothing).
-  void choose_next(bool first_cost);
+  void choose_next();  ///< the count of the next block
   bool room() const { return !room_ || room_(max_); }
   /// room(), asked after 1, 2, 4, .. exploit_ blocks while it says no (a
   /// block's end that does not ask says no)
@@ -182,7 +180,7 @@ class ThreadGovernor {
   int room_wait_ = 1;         ///< blocks from a "no room" to the next question (1, 2, 4, .. exploit_)
   int room_blocks_left_ = 0;  ///< blocks before the next question
   bool warming_ = true;    ///< in the run's first block (counted, not timed)
-  bool probing_ = false;   ///< the running block probes the other count
+  bool probing_ = false;   ///< the running block probes the other count (whose cost is known)
   int backoff_ = 1;        ///< factor of the probe spacing (1, 2, .., kMaxProbeBackoff)
   std::int64_t warm_steps_ = 0;  ///< steps of the first block so far
   double warm_seconds_ = 0;      ///< their wall time [s]
