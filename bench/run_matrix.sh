@@ -6,8 +6,10 @@
 # MEDIAN cost per particle-step of each case with the packing state beside it
 # (void ratio and contacts per particle at the start of the timing, mean
 # stress at its start and end: the timing shears at constant volume) and, per round, the
-# ratios 1 thread / T threads and spheroid / sphere (medians of the rounds'
-# ratios).
+# ratios 1 thread / T threads (x_1T), spheroid / sphere (x_sph) and this N /
+# the first N of the list at the same threads and shape (x_N1, the issue's
+# "flat within 20 %"): medians of the rounds' ratios. Every round runs every
+# size, so all three are interleaved.
 #
 #   bench/run_matrix.sh [extra triax_bench args...]
 #   REPEATS=5 TILES="1 2 3x2x2 4 5x5x4" THREADS="1 2" SHAPES="sphere spheroid" STEPS=1000 bench/run_matrix.sh
@@ -107,13 +109,17 @@ work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'Morton-sorted' || echo 'as stored')")"
 echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
 
-printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %s\n' \
-  size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph idle/load
-for s in ${list}; do
-  if [[ "${LOOSE}" == 1 ]]; then  # prepare (or load) once, untimed
+printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %s\n' \
+  size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph x_N1 idle/load
+if [[ "${LOOSE}" == 1 ]]; then  # prepare (or load) once, untimed
+  for s in ${list}; do
     for shape in ${SHAPES}; do case_args "${shape}" "${s}"; "${BIN}" "${args[@]}" --threads 1 --steps 1 "$@" >/dev/null 2>&1; done
-  fi
-  for ((r = 0; r < REPEATS; ++r)); do
+  done
+fi
+# Round r runs every size, thread count and shape once, so the ratios
+# between sizes (x_N1) are interleaved as well as those within one size.
+for ((r = 0; r < REPEATS; ++r)); do
+  for s in ${list}; do
     for t in ${THREADS}; do
       for shape in ${SHAPES}; do
         case_args "${shape}" "${s}"
@@ -124,25 +130,29 @@ for s in ${list}; do
       done
     done
   done
+done
+us() { for ((r = 0; r < REPEATS; ++r)); do value us_per_particle_step "${work}/$1_$2_$3_${r}"; done; }
+ratio() {  # SIZE_A T_A SHAPE_A SIZE_B T_B SHAPE_B: median over rounds of (case a) / (case b)
+  for ((r = 0; r < REPEATS; ++r)); do
+    awk -v a="$(value us_per_particle_step "${work}/$1_$2_$3_${r}")" \
+        -v b="$(value us_per_particle_step "${work}/$4_$5_$6_${r}")" 'BEGIN { printf "%.4f\n", a / b }'
+  done | median
+}
+first="$(echo ${THREADS} | cut -d' ' -f1)"
+first_size="$(echo ${list} | cut -d' ' -f1)"
+for s in ${list}; do
   for t in ${THREADS}; do
     for shape in ${SHAPES}; do
       f="${work}/${s}_${t}_${shape}_0"
-      us() { for ((r = 0; r < REPEATS; ++r)); do value us_per_particle_step "${work}/${s}_$1_$2_${r}"; done; }
-      ratio() {  # median over rounds of (case a) / (case b)
-        for ((r = 0; r < REPEATS; ++r)); do
-          awk -v a="$(value us_per_particle_step "${work}/${s}_$1_$2_${r}")" \
-              -v b="$(value us_per_particle_step "${work}/${s}_$3_$4_${r}")" 'BEGIN { printf "%.4f\n", a / b }'
-        done | median
-      }
-      first="$(echo ${THREADS} | cut -d' ' -f1)"
-      x1="-"; [[ "${t}" != "${first}" ]] && x1="$(ratio "${first}" "${shape}" "${t}" "${shape}")"
-      xs="-"; [[ "${shape}" != sphere && " ${SHAPES} " == *" sphere "* ]] && xs="$(ratio "${t}" "${shape}" "${t}" sphere)"
-      printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %s\n' \
-        "${s}" "$(value particles "${f}")" "${t}" "${shape}" "$(us "${t}" "${shape}" | median)" \
-        "$(us "${t}" "${shape}" | sort -g | head -1)" "$(us "${t}" "${shape}" | sort -g | tail -1)" \
+      x1="-"; [[ "${t}" != "${first}" ]] && x1="$(ratio "${s}" "${first}" "${shape}" "${s}" "${t}" "${shape}")"
+      xs="-"; [[ "${shape}" != sphere && " ${SHAPES} " == *" sphere "* ]] && xs="$(ratio "${s}" "${t}" "${shape}" "${s}" "${t}" sphere)"
+      xn="-"; [[ "${s}" != "${first_size}" ]] && xn="$(ratio "${s}" "${t}" "${shape}" "${first_size}" "${t}" "${shape}")"
+      printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %s\n' \
+        "${s}" "$(value particles "${f}")" "${t}" "${shape}" "$(us "${s}" "${t}" "${shape}" | median)" \
+        "$(us "${s}" "${t}" "${shape}" | sort -g | head -1)" "$(us "${s}" "${t}" "${shape}" | sort -g | tail -1)" \
         "$(value void_ratio_start "${f}")" "$(value contacts_per_particle_start "${f}")" \
         "$(awk -v p="$(value mean_stress_pa_start "${f}")" -v q="$(value mean_stress_pa "${f}")" 'BEGIN { printf "%.0f-%.0f", p / 1e3, q / 1e3 }')" \
-        "$(value rss_bytes_per_particle "${f}")" "${x1}" "${xs}" "$(cat "${f}.idle")"
+        "$(value rss_bytes_per_particle "${f}")" "${x1}" "${xs}" "${xn}" "$(cat "${f}.idle")"
     done
   done
 done

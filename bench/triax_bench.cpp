@@ -522,10 +522,12 @@ int main(int argc, char** argv) {
   const std::int64_t rebuilds0 = sim->neighbor_list().rebuild_count();
   const std::uint64_t asleep0 = sim->spheroid_contact_stats().asleep;
   const double cpu0 = process_cpu_seconds();
+  sim->reset_phase_times();
   const auto t_run = Clock::now();
   for (long long k = 0; k < steps; ++k)
     if (!sim->step(false)) die(*sim);
   const double wall = seconds_since(t_run);
+  const PhaseTimes phases = sim->phase_times();  // of the timed steps only
   const double cpu = process_cpu_seconds() - cpu0;
   const std::int64_t rebuilds = sim->neighbor_list().rebuild_count() - rebuilds0;
   const std::uint64_t asleep = sim->spheroid_contact_stats().asleep - asleep0;
@@ -576,6 +578,18 @@ int main(int argc, char** argv) {
   std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
   std::printf("wall_seconds: %.3f\n", wall);
   std::printf("cpu_seconds: %.3f\n", cpu);
+  // where the time went (phase_times.h): per thread, seconds in each phase
+  // of the timed steps and the rest of the two parallel regions (waits)
+  std::printf("region_seconds: forces %.3f integration %.3f\n", phases.region(PhaseTimes::Forces),
+              phases.region(PhaseTimes::Integration));
+  for (int t = 0; t < phases.threads(); ++t) {
+    if (phases.busy(t) == 0.0) continue;  // a slot of a larger team earlier
+    std::printf("phase_seconds_thread_%d:", t);
+    for (int k = 0; k < PhaseTimes::kPhaseCount; ++k)
+      std::printf(" %s %.3f", PhaseTimes::name(static_cast<PhaseTimes::Phase>(k)),
+                  phases.seconds(t, static_cast<PhaseTimes::Phase>(k)));
+    std::printf(" waits %.3f\n", phases.waits(t));
+  }
   std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
   std::printf("rss_bytes_per_particle: %.0f\n", rss / np);
   std::printf("us_per_particle_step: %.4f\n", wall * 1e6 / (np * static_cast<double>(steps)));

@@ -79,6 +79,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   Scratch* scratch = scratch_.data();
+  phases_.ensure_threads(omp_get_max_threads());
+  PhaseTimes* phases = &phases_;
 
   const std::int32_t* goff = list.gather_offsets().data();
   const std::int32_t* gcode = list.gather_codes().data();
@@ -169,6 +171,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_, stamp);
   bool plan_used = false;  // set by a team of several (both paths)
   const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
+  const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
   // in list order (or the gather after it). Several: spheres, each thread's
@@ -192,11 +195,17 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums (scatter),
       // or the gather below makes them (set_pair_loop_sum_threshold).
+      const double t0 = omp_get_wtime();
       if (spheroids) refresh_bodies(0, ni);
+      const double t1 = omp_get_wtime();
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+      const double t2 = omp_get_wtime();
       if (!scatter)
         for (std::int32_t i = 0; i < ni; ++i)
           spheroids ? gather_spheroid(i, std::min(i + kPrefetchParticles, ni)) : gather_sphere(i);
+      phases->add(0, PhaseTimes::Prepare, t1 - t0);
+      phases->add(0, PhaseTimes::Pairs, t2 - t1);
+      phases->add(0, PhaseTimes::Sums, omp_get_wtime() - t2);
     } else {
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
@@ -224,7 +233,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         refresh_bodies(i0, i1);
         std::fill(fout + i0, fout + i1, Vec3{});
         std::fill(tout + i0, tout + i1, Vec3{});
-        double busy = omp_get_wtime() - start;
+        const double prepared = omp_get_wtime() - start;
 #pragma omp barrier
         start = omp_get_wtime();
         PairInputs own = in;
@@ -233,17 +242,22 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         own.own_begin = i0;
         own.own_span = static_cast<std::uint32_t>(i1 - i0);
         for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(kernel, own, c);
-        busy += omp_get_wtime() - start;
+        const double paired = omp_get_wtime() - start;
 #pragma omp barrier
         const double summing = omp_get_wtime();
         const std::vector<std::int32_t>& edge = split->edge_particles(t);
         const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
         for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
-        runs->record(t, busy + (omp_get_wtime() - summing));
+        const double summed = omp_get_wtime() - summing;
+        runs->record(t, prepared + paired + summed);
+        phases->add(t, PhaseTimes::Prepare, prepared);
+        phases->add(t, PhaseTimes::Pairs, paired);
+        phases->add(t, PhaseTimes::Sums, summed);
       } else {
         // home: particles [i0, i1); ghosts before, own chunks, ghosts after
         std::fill(fout + i0, fout + i1, Vec3{});
         std::fill(tout + i0, tout + i1, Vec3{});
+        const double t1 = omp_get_wtime();
         PairInputs own = in;
         own.force_out = fout;
         own.torque_out = tout;
@@ -255,15 +269,24 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                        mine.entry.data(), mine.branch.data(), mine.dist2.data());
         };
         ghosts(split->ghosts_before(t));
+        const double t2 = omp_get_wtime();
         for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(split_kernel, own, c);
+        const double t3 = omp_get_wtime();
         ghosts(split->ghosts_after(t));
+        const double t4 = omp_get_wtime();
         // the springs of this run's boundary entries, for the next step's ghosts
         Vec3* next = split->next_ghost_springs() + split->boundary_slot(t);
         for (const std::int32_t e : split->boundary(t)) *next++ = in.spring[e];
-        runs->record(t, omp_get_wtime() - start);
+        const double t5 = omp_get_wtime();
+        runs->record(t, t5 - start);
+        phases->add(t, PhaseTimes::Prepare, t1 - start);
+        phases->add(t, PhaseTimes::Ghosts, (t2 - t1) + (t4 - t3));
+        phases->add(t, PhaseTimes::Pairs, t3 - t2);
+        phases->add(t, PhaseTimes::Sums, t5 - t4);
       }
     }
   }
+  phases_.add_region(PhaseTimes::Forces, omp_get_wtime() - region_start);
   if (plan_used) split_.finish_step(stamp);
   split_used_ = plan_used && !spheroids;
 

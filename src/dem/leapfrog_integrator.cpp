@@ -371,7 +371,7 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
                                             const std::vector<Vec3>& force,
                                             const std::vector<Vec3>& torque,
                                             const std::vector<Vec3>& frac_at_build, bool measure,
-                                            ThreadRuns* runs) {
+                                            ThreadRuns* runs, PhaseTimes* phases) {
   const std::size_t n = p.size();
   const std::int32_t nchunks = chunk_count(n);
   chunk_sums_.assign(static_cast<std::size_t>(nchunks), IntegrationSums{});
@@ -391,12 +391,14 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
   // loop and its sums when given (thread_runs.h, contact_forces.cpp), so the
   // forces are read where they were summed and the time spent counts
   // toward the cut; else equal runs (chunk_run).
+  if (phases) phases->ensure_threads(omp_get_max_threads());
+  const double region_start = phases ? omp_get_wtime() : 0.0;
 #pragma omp parallel
   {
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
     const bool shared = runs && runs->threads() == team && runs->chunks() == nchunks && team > 1;
     const auto [c0, c1] = shared ? runs->run(t) : chunk_run(nchunks, t, team);
-    const double start = shared ? omp_get_wtime() : 0.0;
+    const double start = shared || phases ? omp_get_wtime() : 0.0;
     for (std::int32_t c = c0; c < c1; ++c) {
       const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
       const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
@@ -409,8 +411,11 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
               : measure   ? advance_sphere_lanes<true>(in, i_begin, i_end)
                           : advance_sphere_lanes<false>(in, i_begin, i_end);
     }
-    if (shared) runs->record(t, omp_get_wtime() - start);
+    const double busy = shared || phases ? omp_get_wtime() - start : 0.0;
+    if (shared) runs->record(t, busy);
+    if (phases) phases->add(t, PhaseTimes::Integrate, busy);
   }
+  if (phases) phases->add_region(PhaseTimes::Integration, omp_get_wtime() - region_start);
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);
   return total;

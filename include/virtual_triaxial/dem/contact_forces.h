@@ -97,6 +97,7 @@
 #include "virtual_triaxial/dem/neighbor_list.h"
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/phase_times.h"
 #include "virtual_triaxial/dem/spheroid_contact.h"
 #include "virtual_triaxial/dem/split_sums.h"
 #include "virtual_triaxial/dem/viscous_contact_damping.h"
@@ -183,6 +184,11 @@ class ContactForces {
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
   ThreadRuns& thread_runs() { return runs_; }
   const ThreadRuns& thread_runs() const { return runs_; }
+  /// Seconds per thread and phase since the last reset, and the regions'
+  /// wall time (phase_times.h); the integrator adds its phase and region
+  /// (LeapfrogIntegrator::advance).
+  PhaseTimes& phase_times() { return phases_; }
+  const PhaseTimes& phase_times() const { return phases_; }
 
   /// Per-thread scratch kept between calls (the contacts found in a chunk),
   /// grown on demand. Implementation detail.
@@ -205,6 +211,7 @@ class ContactForces {
   std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
   SplitSums split_;                      ///< several threads: ghosts (spheres), edge particles (spheroids)
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
+  PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
   std::int64_t steps_ = 0;               ///< compute() calls (SplitSums' step stamps)
 };

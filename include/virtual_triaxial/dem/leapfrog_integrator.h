@@ -40,6 +40,7 @@
 #include "virtual_triaxial/dem/local_damping.h"
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
+#include "virtual_triaxial/dem/phase_times.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
 #include "virtual_triaxial/dem/thread_runs.h"
 
@@ -73,10 +74,12 @@ class LeapfrogIntegrator {
   /// Advance velocities and positions by one step. The cell must already be
   /// deformed to t+dt. frac_at_build feeds the Verlet rebuild criterion.
   /// `runs`: the chunks per thread of the contact forces (thread_runs.h),
-  /// to take and to time; null or another team: equal runs.
+  /// to take and to time; null or another team: equal runs. `phases`: each
+  /// thread's time in PhaseTimes::Integrate and the region's wall time are
+  /// added there (phase_times.h); null: not timed.
   IntegrationSums advance(Particles& p, const PeriodicCell& cell, const std::vector<Vec3>& force,
                           const std::vector<Vec3>& torque, const std::vector<Vec3>& frac_at_build,
-                          bool measure, ThreadRuns* runs = nullptr);
+                          bool measure, ThreadRuns* runs = nullptr, PhaseTimes* phases = nullptr);
 
  private:
   /// Per-particle constants of eq. 2 of one particle.

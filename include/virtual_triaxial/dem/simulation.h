@@ -140,6 +140,10 @@ class Simulation {
   bool split_used() const { return contact_forces_.split_used(); }
   /// Chunks per thread of the sphere path and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
+  /// Where the steps' time went per thread and phase since the last reset
+  /// (phase_times.h: pair loop, ghosts, sums, integration, barrier waits).
+  const PhaseTimes& phase_times() const { return contact_forces_.phase_times(); }
+  void reset_phase_times() { contact_forces_.phase_times().reset(); }
 
  private:
   void initialize();

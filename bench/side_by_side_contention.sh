@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Do two one-thread runs slow each other down? Each round times triax_bench on
+# one thread pinned to CPU 0 alone, pinned to CPU 1 alone, then both at once
+# (one per CPU), and prints the per-round costs and the medians of
+# together / alone per CPU. The two runs share nothing but the machine
+# (caches, memory bandwidth, the host), so a ratio above 1 is what two
+# threads of one run lose to that sharing before any cost of their own
+# (barriers, ghosts, imbalance).
+#
+#   bench/side_by_side_contention.sh ROUNDS TILE STEPS [SAMPLE]
+#   bench/side_by_side_contention.sh 6 3x2x2 3000
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+[[ $# -ge 3 ]] || { sed -n '2,12p' "$0" >&2; exit 2; }
+R=$1; TILE=$2; STEPS=$3; SAMPLE=${4:-config/samples/dense_1000.h5}
+BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
+[[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "side_by_side_contention: ROUNDS must be a whole number >= 1" >&2; exit 2; }
+[[ -x "${BIN}" ]] || { echo "side_by_side_contention: ${BIN} not built" >&2; exit 2; }
+command -v taskset >/dev/null || { echo "side_by_side_contention: taskset missing (util-linux)" >&2; exit 2; }
+(($(nproc) >= 2)) || { echo "side_by_side_contention: needs 2 CPUs" >&2; exit 2; }
+run() { taskset -c "$1" "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads 1 --steps "${STEPS}" 2>/dev/null | awk -F': ' '$1 == "us_per_particle_step" { print $2 }'; }
+work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
+echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, ${STEPS} steps, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# round alone_cpu0 alone_cpu1 together_cpu0 together_cpu1 (us per particle-step)"
+for ((r = 1; r <= R; ++r)); do
+  a0=$(run 0); a1=$(run 1)
+  run 0 >"${work}/t0" & p0=$!
+  run 1 >"${work}/t1" & p1=$!
+  wait "${p0}" "${p1}"
+  echo "${r} ${a0} ${a1} $(cat "${work}/t0") $(cat "${work}/t1")"
+done | tee "${work}/rows"
+python3 - "${work}/rows" <<'PY'
+import statistics as st, sys
+rows = [list(map(float, l.split()[1:])) for l in open(sys.argv[1]) if len(l.split()) == 5]
+for c in (0, 1):
+    print("cpu%d: alone median %.4f, together median %.4f, together / alone median of rounds %.3f"
+          % (c, st.median(r[c] for r in rows), st.median(r[c + 2] for r in rows), st.median(r[c + 2] / r[c] for r in rows)))
+PY

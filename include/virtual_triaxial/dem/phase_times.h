@@ -1,0 +1,65 @@
+// Where a step's time goes (issue 13: "find where the time goes"): the
+// wall-clock seconds each OpenMP thread spends in each phase of the force
+// evaluation and the integration, summed over steps, and the wall time of
+// each parallel region as its caller saw it.
+//
+// For thread t, summed over the steps since reset():
+//   busy_t  = sum over phases of seconds(t, phase)                     [s]
+//   waits_t = region(Forces) + region(Integrate) - busy_t              [s]
+// waits_t is what thread t spent outside its own work inside the regions:
+// forming the team, waiting at barriers for the other threads (the
+// step-by-step imbalance) and joining. On one thread waits_0 is the cost of
+// the timing and of the code between the phases.
+//
+// Phases (ContactForces::compute and LeapfrogIntegrator::advance):
+//   Prepare   zeroing the thread's force and torque sums; spheroids: their
+//             support data (SpheroidSupport) for this evaluation
+//   Pairs     the thread's own pair loop (its run of chunks)
+//   Ghosts    spheres on several threads: pairs crossing runs evaluated
+//             again by the partner's thread (split_sums.h)
+//   Sums      the gather (one thread, gather mode), the spheroids' edge
+//             gather (several threads), the ghosts' springs for the next step
+//   Integrate the leapfrog step of the thread's particles (eq. 2)
+// The timing reads omp_get_wtime() (25-30 ns a call here) a few times per
+// thread and step; results never depend on it.
+#pragma once
+
+#include <vector>
+
+namespace vt::dem {
+
+class PhaseTimes {
+ public:
+  enum Phase : int { Prepare = 0, Pairs, Ghosts, Sums, Integrate, kPhaseCount };
+  enum Region : int { Forces = 0, Integration, kRegionCount };
+
+  /// Slots for at least `threads` threads (call serially, before a region).
+  void ensure_threads(int threads);
+  /// Thread t spent `seconds` in phase p (thread t only: one cache line per thread).
+  void add(int t, Phase p, double seconds) { slots_[static_cast<std::size_t>(t)].s[p] += seconds; }
+  /// The caller's wall time of one parallel region (serially).
+  void add_region(Region r, double seconds) { regions_[r] += seconds; }
+  /// Zero every sum (keeps the slots).
+  void reset();
+
+  int threads() const { return static_cast<int>(slots_.size()); }
+  /// Seconds of thread t in phase p; 0 for a thread without a slot.
+  double seconds(int t, Phase p) const;
+  /// Sum over phases of thread t [s].
+  double busy(int t) const;
+  /// Region wall time [s].
+  double region(Region r) const { return regions_[r]; }
+  /// Both regions less busy(t) [s] (see the header comment).
+  double waits(int t) const { return region(Forces) + region(Integration) - busy(t); }
+  /// "prepare", "pairs", "ghosts", "sums", "integrate".
+  static const char* name(Phase p);
+
+ private:
+  struct alignas(64) Slot {
+    double s[kPhaseCount] = {};
+  };
+  std::vector<Slot> slots_;
+  double regions_[kRegionCount] = {};
+};
+
+}  // namespace vt::dem
