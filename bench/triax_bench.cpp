@@ -580,15 +580,15 @@ int main(int argc, char** argv) {
   std::printf("cpu_seconds: %.3f\n", cpu);
   // where the time went (phase_times.h): per thread, seconds in each phase
   // of the timed steps and the rest of the two parallel regions (waits)
-  std::printf("region_seconds: forces %.3f integration %.3f\n", phases.region(PhaseTimes::Forces),
-              phases.region(PhaseTimes::Integration));
+  std::printf("region_seconds: forces %.6f integration %.6f\n", phases.region(PhaseTimes::ForceRegion),
+              phases.region(PhaseTimes::IntegrationRegion));
   for (int t = 0; t < phases.threads(); ++t) {
     if (phases.busy(t) == 0.0) continue;  // a slot of a larger team earlier
     std::printf("phase_seconds_thread_%d:", t);
     for (int k = 0; k < PhaseTimes::kPhaseCount; ++k)
-      std::printf(" %s %.3f", PhaseTimes::name(static_cast<PhaseTimes::Phase>(k)),
+      std::printf(" %s %.6f", PhaseTimes::name(static_cast<PhaseTimes::Phase>(k)),
                   phases.seconds(t, static_cast<PhaseTimes::Phase>(k)));
-    std::printf(" waits %.3f\n", phases.waits(t));
+    std::printf(" waits %.6f\n", phases.waits(t));
   }
   std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
   std::printf("rss_bytes_per_particle: %.0f\n", rss / np);

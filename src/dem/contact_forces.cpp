@@ -216,8 +216,10 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       if (!plan_current || team != planned_team) {
 #pragma omp single
         {
+          const double planning = omp_get_wtime();
           runs->prepare(nchunks, n, team);
           split->prepare(list, n, *runs, stamp);
+          phases->add(omp_get_thread_num(), PhaseTimes::Prepare, omp_get_wtime() - planning);
         }
         // (implicit barrier: the plan is ready)
       }
@@ -286,7 +288,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       }
     }
   }
-  phases_.add_region(PhaseTimes::Forces, omp_get_wtime() - region_start);
+  phases_.add_region(PhaseTimes::ForceRegion, omp_get_wtime() - region_start);
   if (plan_used) split_.finish_step(stamp);
   split_used_ = plan_used && !spheroids;
 

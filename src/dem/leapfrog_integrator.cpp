@@ -415,7 +415,7 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
     if (shared) runs->record(t, busy);
     if (phases) phases->add(t, PhaseTimes::Integrate, busy);
   }
-  if (phases) phases->add_region(PhaseTimes::Integration, omp_get_wtime() - region_start);
+  if (phases) phases->add_region(PhaseTimes::IntegrationRegion, omp_get_wtime() - region_start);
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);
   return total;

@@ -1,17 +1,23 @@
 // PhaseTimes (dem/phase_times.h): where a step's time goes per thread.
 //   - the arithmetic: busy = sum of the phases, waits = both regions less
 //     busy, reset zeroes everything, a thread without a slot reads 0;
-//   - on a spatially sorted sphere packing stepped by Simulation on one and
-//     on two threads: every thread of the team times its own pair loop and
-//     its integration (> 0), no thread's phases exceed the regions that hold
-//     them (waits >= 0: the regions are timed around the team, the phases
-//     inside it, with the same clock), ghosts are timed only on several
-//     threads, and reset_phase_times() starts from zero.
+//   - on spatially sorted sphere and spheroid packings stepped by Simulation
+//     on one and on two threads: every thread of the team times its own pair
+//     loop and its integration (> 0), on two threads its preparation and its
+//     sums too, no thread's phases exceed the regions that hold them
+//     (waits >= 0: the regions are timed around the team, the phases inside
+//     it, with the same clock), ghosts are timed on every thread of the
+//     sphere path on two threads and never otherwise, and
+//     reset_phase_times() starts from zero.
 #include <gtest/gtest.h>
 
 #include <omp.h>
 
+#include <string>
+
 #include "support/scenes.h"
+#include "support/spheroid_scenes.h"
+#include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/phase_times.h"
 #include "virtual_triaxial/dem/simulation.h"
 
@@ -25,8 +31,8 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   pt.add(0, PhaseTimes::Integrate, 0.25);
   pt.add(0, PhaseTimes::Pairs, 0.5);
   pt.add(1, PhaseTimes::Ghosts, 0.125);
-  pt.add_region(PhaseTimes::Forces, 2.5);
-  pt.add_region(PhaseTimes::Integration, 0.5);
+  pt.add_region(PhaseTimes::ForceRegion, 2.5);
+  pt.add_region(PhaseTimes::IntegrationRegion, 0.5);
   EXPECT_EQ(pt.seconds(0, PhaseTimes::Pairs), 2.0);
   EXPECT_EQ(pt.busy(0), 2.25);
   EXPECT_EQ(pt.busy(1), 0.125);
@@ -38,7 +44,7 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   EXPECT_EQ(pt.threads(), 2);
   pt.reset();
   EXPECT_EQ(pt.busy(0), 0.0);
-  EXPECT_EQ(pt.region(PhaseTimes::Forces), 0.0);
+  EXPECT_EQ(pt.region(PhaseTimes::ForceRegion), 0.0);
   EXPECT_EQ(pt.threads(), 2);
   EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Ghosts), "ghosts");
   EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Integrate), "integrate");
@@ -46,42 +52,72 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
 
 namespace {
 
-/// Steps a sorted 1600-sphere packing (4 chunks) on `threads` threads and
-/// checks the invariants of its phase times.
-void check_steps_on(int threads) {
+/// Restores the caller's OpenMP thread count, also when an assertion ends a test early.
+struct RestoreThreads {
+  int count = omp_get_max_threads();
+  ~RestoreThreads() { omp_set_num_threads(count); }
+};
+
+/// Steps `start` 5 steps on one thread, 5 on `threads` (the team's plan is
+/// made), resets the timers and steps 20 more; checks the invariants of
+/// the phase times of those 20 steps. `ghosts`: the sphere path on several
+/// threads (each thread evaluates the pairs crossing into its run again).
+void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
+  RestoreThreads restore;
   omp_set_num_threads(1);
-  Simulation sim(vt::test::spatially_sorted(vt::test::loaded_packing(1600)));
+  Simulation sim(start);
   ASSERT_EQ(sim.run(5), 5) << sim.failure();
   omp_set_num_threads(threads);
-  ASSERT_EQ(sim.run(5), 5) << sim.failure();  // the team's plan is made
+  ASSERT_EQ(sim.run(5), 5) << sim.failure();
   sim.reset_phase_times();
   const PhaseTimes& pt = sim.phase_times();
   EXPECT_EQ(pt.busy(0), 0.0);
-  EXPECT_EQ(pt.region(PhaseTimes::Forces), 0.0);
+  EXPECT_EQ(pt.region(PhaseTimes::ForceRegion), 0.0);
   ASSERT_EQ(sim.run(20), 20) << sim.failure();
   ASSERT_GE(pt.threads(), threads);
-  EXPECT_GT(pt.region(PhaseTimes::Forces), 0.0);
-  EXPECT_GT(pt.region(PhaseTimes::Integration), 0.0);
+  EXPECT_GT(pt.region(PhaseTimes::ForceRegion), 0.0);
+  EXPECT_GT(pt.region(PhaseTimes::IntegrationRegion), 0.0);
   for (int t = 0; t < threads; ++t) {
-    EXPECT_GT(pt.seconds(t, PhaseTimes::Pairs), 0.0) << threads << " threads, thread " << t;
-    EXPECT_GT(pt.seconds(t, PhaseTimes::Integrate), 0.0) << threads << " threads, thread " << t;
-    EXPECT_GE(pt.waits(t), 0.0) << threads << " threads, thread " << t << ": phases outside their regions";
-    EXPECT_LE(pt.seconds(t, PhaseTimes::Integrate), pt.region(PhaseTimes::Integration));
+    const std::string at = std::to_string(threads) + " threads, thread " + std::to_string(t);
+    EXPECT_GT(pt.seconds(t, PhaseTimes::Pairs), 0.0) << at;
+    EXPECT_GT(pt.seconds(t, PhaseTimes::Integrate), 0.0) << at;
+    EXPECT_GE(pt.waits(t), 0.0) << at << ": phases outside their regions";
+    EXPECT_LE(pt.seconds(t, PhaseTimes::Integrate), pt.region(PhaseTimes::IntegrationRegion)) << at;
     if (threads == 1) {
-      EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0);
+      EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
+    } else {
+      // every thread zeroes its own sums and ends with its own sums pass
+      // (the ghosts' springs, or the spheroids' edge gather)
+      EXPECT_GT(pt.seconds(t, PhaseTimes::Prepare), 0.0) << at;
+      EXPECT_GT(pt.seconds(t, PhaseTimes::Sums), 0.0) << at;
+      if (ghosts) {
+        EXPECT_GT(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
+      } else {
+        EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
+      }
     }
   }
   if (threads > 1) {
-    ASSERT_TRUE(sim.split_used());
-    ASSERT_GT(sim.split_ghosts(), 0u);
-    EXPECT_GT(pt.seconds(0, PhaseTimes::Ghosts) + pt.seconds(1, PhaseTimes::Ghosts), 0.0);
+    EXPECT_EQ(sim.split_used(), ghosts);
+    if (ghosts) {
+      EXPECT_GT(sim.split_ghosts(), 0u);
+    }
   }
-  omp_set_num_threads(omp_get_num_procs());
 }
 
 }  // namespace
 
 TEST(PhaseTimes, EveryThreadTimesItsPairLoopAndIntegrationInsideTheRegions) {
-  check_steps_on(1);
-  check_steps_on(2);
+  // 1600 spheres, sorted in space: 4 chunks, pairs crossing two threads' runs
+  const SimulationState spheres = vt::test::spatially_sorted(vt::test::loaded_packing(1600));
+  check_steps_on(spheres, 1, false);
+  check_steps_on(spheres, 2, true);
+}
+
+TEST(PhaseTimes, SpheroidThreadsTimeTheirPairLoopsAndEdgeGathers) {
+  // 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
+  const SimulationState spheroids =
+      vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2));
+  check_steps_on(spheroids, 1, false);
+  check_steps_on(spheroids, 2, false);
 }

@@ -5,15 +5,20 @@
 //
 // For thread t, summed over the steps since reset():
 //   busy_t  = sum over phases of seconds(t, phase)                     [s]
-//   waits_t = region(Forces) + region(Integrate) - busy_t              [s]
+//   waits_t = region(ForceRegion) + region(IntegrationRegion) - busy_t [s]
 // waits_t is what thread t spent outside its own work inside the regions:
 // forming the team, waiting at barriers for the other threads (the
 // step-by-step imbalance) and joining. On one thread waits_0 is the cost of
-// the timing and of the code between the phases.
+// the timing and of the code between the phases. A thread that was not in
+// every team since reset() (a thread governor switching counts) counts the
+// regions it missed as waits.
 //
 // Phases (ContactForces::compute and LeapfrogIntegrator::advance):
-//   Prepare   zeroing the thread's force and torque sums; spheroids: their
-//             support data (SpheroidSupport) for this evaluation
+//   Prepare   zeroing the thread's force and torque sums (several threads;
+//             one thread zeroes them before the region, untimed); spheroids:
+//             their support data (SpheroidSupport) for this evaluation; several
+//             threads: the plan of runs and ghosts when it is remade (one
+//             thread makes it while the others wait)
 //   Pairs     the thread's own pair loop (its run of chunks)
 //   Ghosts    spheres on several threads: pairs crossing runs evaluated
 //             again by the partner's thread (split_sums.h)
@@ -31,7 +36,7 @@ namespace vt::dem {
 class PhaseTimes {
  public:
   enum Phase : int { Prepare = 0, Pairs, Ghosts, Sums, Integrate, kPhaseCount };
-  enum Region : int { Forces = 0, Integration, kRegionCount };
+  enum Region : int { ForceRegion = 0, IntegrationRegion, kRegionCount };
 
   /// Slots for at least `threads` threads (call serially, before a region).
   void ensure_threads(int threads);
@@ -50,7 +55,7 @@ class PhaseTimes {
   /// Region wall time [s].
   double region(Region r) const { return regions_[r]; }
   /// Both regions less busy(t) [s] (see the header comment).
-  double waits(int t) const { return region(Forces) + region(Integration) - busy(t); }
+  double waits(int t) const { return region(ForceRegion) + region(IntegrationRegion) - busy(t); }
   /// "prepare", "pairs", "ghosts", "sums", "integrate".
   static const char* name(Phase p);
 
