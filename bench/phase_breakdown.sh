@@ -18,6 +18,8 @@ BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
 [[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "phase_breakdown: ROUNDS must be a whole number >= 1" >&2; exit 2; }
 [[ "${STEPS}" =~ ^[1-9][0-9]*$ ]] || { echo "phase_breakdown: STEPS must be a whole number >= 1" >&2; exit 2; }
 [[ -x "${BIN}" ]] || { echo "phase_breakdown: ${BIN} not built" >&2; exit 2; }
+# shellcheck source=median.sh
+source bench/median.sh
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, Morton-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 for ((r = 1; r <= R; ++r)); do
@@ -26,28 +28,24 @@ for ((r = 1; r <= R; ++r)); do
       { echo "phase_breakdown: triax_bench failed" >&2; exit 1; }
   done
 done
-python3 - "${work}" "${R}" "${STEPS}" <<'PY'
-import statistics as st, sys
-work, rounds, steps = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-names = ["prepare", "pairs", "ghosts", "sums", "integrate", "waits"]
-def parse(path):
-    out = {"threads": {}}
-    for line in open(path):
-        key, _, val = line.partition(":")
-        if key == "us_per_particle_step": out["us"] = float(val)
-        elif key == "particles": out["n"] = int(val)
-        elif key.startswith("phase_seconds_thread_"):
-            w = val.split()
-            out["threads"][int(key.rsplit("_", 1)[1])] = {w[k]: float(w[k + 1]) for k in range(0, len(w), 2)}
-    return out
-runs = {t: [parse("%s/%d_%d" % (work, t, r)) for r in range(1, rounds + 1)] for t in (1, 2)}
-print("particles %d; microseconds per step, medians of %d rounds" % (runs[1][0]["n"], rounds))
-print("%-10s %s %9s" % ("threads", " ".join("%9s" % n for n in names), "us/p-step"))
-for t in (1, 2):
-    for th in range(t):
-        row = [st.median(1e6 * x["threads"][th][n] / steps for x in runs[t]) for n in names]
-        label = "%d (t%d)" % (t, th)
-        us = st.median(x["us"] for x in runs[t]) if th == 0 else float("nan")
-        print("%-10s %s %9s" % (label, " ".join("%9.1f" % v for v in row), "%.4f" % us if th == 0 else ""))
-print("two threads / one: speed-up, median of the rounds' %.3fx" % st.median(a["us"] / b["us"] for a, b in zip(runs[1], runs[2])))
-PY
+# per round: column COL (1-based) of the file of T threads, or phase PHASE of thread TH in us per step
+col() { for ((r = 1; r <= R; ++r)); do awk -F': ' -v k="$2" '$1 == k { print $2 }' "${work}/$1_${r}"; done; }
+phase_us() {
+  for ((r = 1; r <= R; ++r)); do
+    awk -v k="phase_seconds_thread_$2:" -v ph="$3" -v steps="${STEPS}" \
+      '$1 == k { for (i = 2; i < NF; i += 2) if ($i == ph) printf "%.1f\n", 1e6 * $(i + 1) / steps }' "${work}/$1_${r}"
+  done
+}
+phases=(prepare pairs ghosts sums integrate waits)
+echo "particles $(col 1 particles | head -1); microseconds per step, medians of ${R} rounds"
+printf '%-10s' threads; printf ' %9s' "${phases[@]}" us/p-step; echo
+for t in 1 2; do
+  for ((th = 0; th < t; ++th)); do
+    printf '%-10s' "${t} (t${th})"
+    for ph in "${phases[@]}"; do printf ' %9s' "$(phase_us "${t}" "${th}" "${ph}" | median)"; done
+    ((th == 0)) && printf ' %9s' "$(col "${t}" us_per_particle_step | median)"
+    echo
+  done
+done
+echo "two threads / one: speed-up, median of the rounds' $(paste <(col 1 us_per_particle_step) <(col 2 us_per_particle_step) |
+  awk '{ printf "%.4f\n", $1 / $2 }' | median)x"

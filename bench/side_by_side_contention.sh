@@ -21,6 +21,8 @@ BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
 command -v taskset >/dev/null || { echo "side_by_side_contention: taskset missing (util-linux)" >&2; exit 2; }
 (($(nproc) >= 2)) || { echo "side_by_side_contention: needs 2 CPUs" >&2; exit 2; }
 run() { taskset -c "$1" "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads 1 --steps "${STEPS}" 2>/dev/null | awk -F': ' '$1 == "us_per_particle_step" { print $2 }'; }
+# shellcheck source=median.sh
+source bench/median.sh
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, ${STEPS} steps, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "# round alone_cpu0 alone_cpu1 together_cpu0 together_cpu1 (us per particle-step)"
@@ -34,10 +36,9 @@ for ((r = 1; r <= R; ++r)); do
     { echo "side_by_side_contention: triax_bench failed in round ${r}" >&2; exit 1; }
   echo "${r} ${a0} ${a1} ${b0} ${b1}"
 done | tee "${work}/rows"
-python3 - "${work}/rows" <<'PY'
-import statistics as st, sys
-rows = [list(map(float, l.split()[1:])) for l in open(sys.argv[1]) if len(l.split()) == 5]
-for c in (0, 1):
-    print("cpu%d: alone median %.4f, together median %.4f, together / alone median of rounds %.3f"
-          % (c, st.median(r[c] for r in rows), st.median(r[c + 2] for r in rows), st.median(r[c + 2] / r[c] for r in rows)))
-PY
+# column K of the rounds' rows (2, 3: alone on CPU 0, 1; 4, 5: together)
+column() { awk -v k="$1" '{ print $k }' "${work}/rows"; }
+for c in 0 1; do
+  echo "cpu${c}: alone median $(column $((c + 2)) | median), together median $(column $((c + 4)) | median)," \
+    "together / alone median of rounds $(awk -v a=$((c + 2)) -v b=$((c + 4)) '{ printf "%.4f\n", $b / $a }' "${work}/rows" | median)"
+done
