@@ -590,6 +590,12 @@ int main(int argc, char** argv) {
                   phases.seconds(t, static_cast<PhaseTimes::Phase>(k)));
     std::printf(" waits %.6f\n", phases.waits(t));
   }
+  // the team's mean waits = imbalance + overhead over both regions; steady:
+  // the part of the imbalance a better fixed cut would recover
+  for (const auto r : {PhaseTimes::ForceRegion, PhaseTimes::IntegrationRegion})
+    std::printf("region_waits_%s: imbalance %.6f steady %.6f overhead %.6f\n",
+                r == PhaseTimes::ForceRegion ? "forces" : "integration", phases.imbalance(r),
+                phases.steady_imbalance(r), phases.overhead(r));
   std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
   std::printf("rss_bytes_per_particle: %.0f\n", rss / np);
   std::printf("us_per_particle_step: %.4f\n", wall * 1e6 / (np * static_cast<double>(steps)));

@@ -162,6 +162,20 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
+  // An edge particle whose terms from other runs come last in list order
+  // (SplitSums::edge_tails): the pair loop's sum plus its slots from the
+  // first of them, as gather_spheroid's last loop adds them.
+  const auto tail_spheroid = [&](const SplitSums::Tail& x) {
+    const std::int32_t i = x.particle;
+    Vec3 f = fout[i], t = tout[i];
+    for (std::int32_t g = x.slot; g < goff[i + 1]; ++g) {
+      const std::int32_t e = gcode[g] >> 2;
+      f += ps[e].force;
+      t += ps[e].moment_axis;
+    }
+    fout[i] = f;
+    tout[i] = t;
+  };
   SplitSums* split = &split_;
   ThreadRuns* runs = &runs_;
   // The plan is checked before the team forms, so that every thread takes
@@ -250,6 +264,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const std::vector<std::int32_t>& edge = split->edge_particles(t);
         const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
         for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
+        const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
+        const std::size_t nt = tails.size();
+        for (std::size_t k = 0; k < nt; ++k) {
+          if (k + ahead < nt) {
+            const SplitSums::Tail& a = tails[k + ahead];
+            for (std::int32_t g = a.slot; g < goff[a.particle + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
+          }
+          tail_spheroid(tails[k]);
+        }
         const double summed = omp_get_wtime() - summing;
         runs->record(t, prepared + paired + summed);
         phases->add(t, PhaseTimes::Prepare, prepared);

@@ -47,12 +47,25 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     ghosts_ = static_cast<std::size_t>(slot);
     // edge particles: the spheroid path's only (the sphere path has ghosts)
     edge_.assign(list.has_spheroids() ? t_count : 0, {});
+    tail_.assign(edge_.size(), {});
+    const std::int32_t* goff = list.gather_offsets().data();
+    const std::int32_t* gcode = list.gather_codes().data();
+    const auto partners_of = [&](const std::vector<Ghost>& ghosts) {
+      std::vector<std::int32_t> p;
+      for (const Ghost& x : ghosts) p.push_back(partner[static_cast<std::size_t>(x.entry)]);
+      std::sort(p.begin(), p.end());
+      p.erase(std::unique(p.begin(), p.end()), p.end());
+      return p;
+    };
     for (std::size_t t = 0; t < edge_.size(); ++t) {
-      std::vector<std::int32_t>& edge = edge_[t];
-      for (const auto* g : {&before_[t], &after_[t]})
-        for (const Ghost& x : *g) edge.push_back(partner[static_cast<std::size_t>(x.entry)]);
-      std::sort(edge.begin(), edge.end());
-      edge.erase(std::unique(edge.begin(), edge.end()), edge.end());
+      edge_[t] = partners_of(before_[t]);
+      for (const std::int32_t j : partners_of(after_[t])) {
+        if (std::binary_search(edge_[t].begin(), edge_[t].end(), j)) continue;
+        std::int32_t g = goff[j];  // the first slot owned in a higher run (one exists)
+        while ((gcode[g] & 2) != 0 || run_of(owners[static_cast<std::size_t>(gcode[g] >> 2)]) <= static_cast<int>(t))
+          ++g;
+        tail_[t].push_back({j, g});
+      }
     }
     for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
   }

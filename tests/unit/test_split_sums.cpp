@@ -13,8 +13,11 @@
 //     on both sides;
 //   - the ghost springs are the list's springs when the plan is made, and
 //     after a step the ones the owners put for the next one;
-//   (edge_particles, kept for spheroid lists: SpheroidRestart.
-//   PairsCrossingThreadRunsGiveTheOneThreadBits);
+//   - spheroid lists: edge_particles(t) are exactly the partners in run t
+//     of pairs owned in a lower run, edge_tails(t) the other partners of
+//     pairs owned in other runs, each with the first of its gather slots
+//     owned in a higher run, after which all are (the sums themselves:
+//     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
 //   - the plan follows the runs and the steps.
 #include <gtest/gtest.h>
 
@@ -25,6 +28,8 @@
 #include <vector>
 
 #include "support/scenes.h"
+#include "support/spheroid_scenes.h"
+#include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/split_sums.h"
@@ -158,4 +163,63 @@ TEST(SplitSums, GhostSpringsFollowTheStepsAndThePlan) {
   // new runs: a new plan
   runs.prepare(chunk_count(n), n, 3);
   EXPECT_FALSE(plan.current(list, n, runs, 4));
+}
+
+TEST(SplitSums, SpheroidEdgesGatherAfterLowerRunsAndAddTheTailsOfHigherRuns) {
+  // 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
+  omp_set_num_threads(1);
+  Simulation sim(vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)));
+  ASSERT_EQ(sim.run(5), 5) << sim.failure();
+  omp_set_num_threads(omp_get_num_procs());
+  const NeighborList& list = sim.neighbor_list();
+  ASSERT_TRUE(list.has_spheroids());
+  const std::size_t n = sim.particles().size();
+  const std::vector<std::int32_t>& owners = list.owners();
+  const std::vector<std::int32_t>& partner = list.pairs().partner;
+  const std::vector<std::int32_t>& goff = list.gather_offsets();
+  const std::vector<std::int32_t>& gcode = list.gather_codes();
+  for (const int threads : {2, 3}) {
+    ThreadRuns runs;
+    runs.prepare(chunk_count(n), n, threads);
+    SplitSums plan;
+    plan.prepare(list, n, runs, 1);
+    const std::vector<int> run_of = run_of_particles(runs, n);
+    std::size_t tails_seen = 0, middle_both = 0;
+    for (int t = 0; t < threads; ++t) {
+      std::vector<bool> lower(n, false), higher(n, false);
+      for (std::size_t e = 0; e < partner.size(); ++e) {
+        const auto j = static_cast<std::size_t>(partner[e]);
+        const int to = run_of[static_cast<std::size_t>(owners[e])];
+        if (run_of[j] != t) continue;
+        if (to < t) lower[j] = true;
+        if (to > t) higher[j] = true;
+      }
+      std::vector<std::int32_t> edge, tail;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (lower[j]) {
+          edge.push_back(static_cast<std::int32_t>(j));
+        } else if (higher[j]) {
+          tail.push_back(static_cast<std::int32_t>(j));
+        }
+      }
+      EXPECT_EQ(plan.edge_particles(t), edge) << threads << " threads, run " << t;
+      std::vector<std::int32_t> tail_particles;
+      for (const SplitSums::Tail& x : plan.edge_tails(t)) {
+        tail_particles.push_back(x.particle);
+        // slots before x.slot: owned in run t or lower; from it: higher runs
+        for (std::int32_t g = goff[static_cast<std::size_t>(x.particle)];
+             g < goff[static_cast<std::size_t>(x.particle) + 1]; ++g) {
+          const auto e = static_cast<std::size_t>(gcode[static_cast<std::size_t>(g)] >> 2);
+          const bool own = (gcode[static_cast<std::size_t>(g)] & 2) != 0;
+          const bool from_higher = !own && run_of[static_cast<std::size_t>(owners[e])] > t;
+          EXPECT_EQ(from_higher, g >= x.slot) << "particle " << x.particle << ", slot " << g;
+        }
+      }
+      EXPECT_EQ(tail_particles, tail) << threads << " threads, run " << t;
+      tails_seen += tail.size();
+      if (t > 0 && t + 1 < threads && !edge.empty() && !tail.empty()) ++middle_both;
+    }
+    EXPECT_GT(tails_seen, 0u) << threads << " threads";
+    if (threads == 3) EXPECT_EQ(middle_both, 1u) << "the middle run has both kinds";
+  }
 }

@@ -25,6 +25,20 @@
 //   Sums      the gather (one thread, gather mode), the spheroids' edge
 //             gather (several threads), the ghosts' springs for the next step
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
+// Waits, step by step (add_region, once per region and step, serially):
+// with b_t the busy seconds thread t added since the last add_region (this
+// region's step) over the threads of the team (b_t > 0) and w the region's
+// wall time,
+//   imbalance(r) = sum over steps of (max_t b_t - mean_t b_t)          [s]
+//   overhead(r)  = sum over steps of (w - max_t b_t)                   [s]
+// so the team's mean waits are the sum over regions of imbalance +
+// overhead (when every thread was in every team). Imbalance is what the
+// threads lost waiting for the slowest at the region's end; overhead is
+// forming and joining the team and the timing. The part of the imbalance a
+// better fixed cut of the runs could recover is
+//   steady_imbalance(r) = max_t B_t - mean_t B_t, B_t = sum of b_t   [s];
+// the rest, imbalance - steady, moves from step to step (one thread slowed
+// this step, the other the next: only balancing within the step recovers it).
 // The timing reads omp_get_wtime() (25-30 ns a call here) a few times per
 // thread and step; results never depend on it.
 #pragma once
@@ -42,8 +56,9 @@ class PhaseTimes {
   void ensure_threads(int threads);
   /// Thread t spent `seconds` in phase p (thread t only: one cache line per thread).
   void add(int t, Phase p, double seconds) { slots_[static_cast<std::size_t>(t)].s[p] += seconds; }
-  /// The caller's wall time of one parallel region (serially).
-  void add_region(Region r, double seconds) { regions_[r] += seconds; }
+  /// The caller's wall time of one parallel region (serially, after the
+  /// region): also closes the region's step for imbalance and overhead.
+  void add_region(Region r, double seconds);
   /// Zero every sum (keeps the slots).
   void reset();
 
@@ -56,15 +71,26 @@ class PhaseTimes {
   double region(Region r) const { return regions_[r]; }
   /// Both regions less busy(t) [s] (see the header comment).
   double waits(int t) const { return region(ForceRegion) + region(IntegrationRegion) - busy(t); }
+  /// Sum over steps of the slowest thread's lead on the team's mean in region r [s].
+  double imbalance(Region r) const { return imbalance_[r]; }
+  /// The same of the threads' totals in region r [s] (<= imbalance(r)).
+  double steady_imbalance(Region r) const;
+  /// Sum over steps of region r's wall time less its slowest thread's busy time [s].
+  double overhead(Region r) const { return overhead_[r]; }
   /// "prepare", "pairs", "ghosts", "sums", "integrate".
   static const char* name(Phase p);
 
  private:
   struct alignas(64) Slot {
     double s[kPhaseCount] = {};
+    double mark = 0.0;                     // busy at the last add_region
+    double region_busy[kRegionCount] = {};  // busy per region (B_t)
   };
+  static double busy_of(const Slot& slot);
   std::vector<Slot> slots_;
   double regions_[kRegionCount] = {};
+  double imbalance_[kRegionCount] = {};
+  double overhead_[kRegionCount] = {};
 };
 
 }  // namespace vt::dem

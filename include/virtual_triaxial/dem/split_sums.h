@@ -64,14 +64,27 @@ class SplitSums {
   /// the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
-  /// Lists with spheroids only (NeighborList::has_spheroids): the particles
+  /// Lists with spheroids only (NeighborList::has_spheroids). The particles
   /// of run t that are partners of pairs owned in other runs (of
-  /// ghosts_before(t) and ghosts_after(t)), ascending: their sums take
-  /// terms that other threads evaluate. The spheroid path gathers them once
-  /// every thread's pair loop is done (their pairs are too dear to evaluate
-  /// twice); each thread's pair loop makes every other sum of its run (an
-  /// owner of a pair crossing runs gets that term in its own loop).
+  /// ghosts_before(t) and ghosts_after(t)) take terms that other threads
+  /// evaluate: the spheroid path completes their sums once every thread's
+  /// pair loop is done (their pairs are too dear to evaluate twice); each
+  /// thread's pair loop makes every other sum of its run (an owner of a pair
+  /// crossing runs gets that term in its own loop). Those with a pair owned
+  /// in a lower run (ghosts_before(t)) are gathered again from the start,
+  /// ascending:
   const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
+  /// The others, whose terms from other runs all come from higher runs
+  /// (ghosts_after(t) only): in list order those terms come last, after
+  /// every term of the pair loop, so the pair loop's sum is the gather's
+  /// partial sum before `slot`, the first of its gather slots
+  /// (NeighborList::gather_codes) owned in a higher run, and adding the
+  /// slots from there on completes it bit for bit. Ascending by particle.
+  struct Tail {
+    std::int32_t particle;
+    std::int32_t slot;
+  };
+  const std::vector<Tail>& edge_tails(int t) const { return tail_[static_cast<std::size_t>(t)]; }
   /// Springs at the start of this step, by ghost slot.
   const Vec3* ghost_springs() const { return spring_[read_].data(); }
   /// Where the owners put the springs of their boundary entries this step, by slot.
@@ -94,6 +107,7 @@ class SplitSums {
   std::vector<std::vector<Ghost>> before_, after_;
   std::vector<std::vector<std::int32_t>> boundary_;
   std::vector<std::vector<std::int32_t>> edge_;
+  std::vector<std::vector<Tail>> tail_;
   std::vector<std::int32_t> boundary_slot_;
   std::vector<Vec3> spring_[2];
   int read_ = 0;
