@@ -5,14 +5,15 @@
 # the medians over the rounds of each thread's microseconds per step in
 # each phase (prepare, pairs, ghosts, sums, integrate) and outside its own
 # work inside the parallel regions (waits: forming the team, barriers,
-# the other thread's lead), and the median of the rounds' speed-ups.
+# the other thread's lead), the two-thread waits split into imbalance (and
+# its steady part) and overhead, and the median of the rounds' speed-ups.
 #
 #   bench/phase_breakdown.sh ROUNDS TILE STEPS [SAMPLE]
 #   bench/phase_breakdown.sh 6 3x2x2 3000            # 12 000 dense spheres
 #   bench/phase_breakdown.sh 4 5x5x4 400             # 100 000
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-[[ $# -ge 3 ]] || { sed -n '2,12p' "$0" >&2; exit 2; }
+[[ $# -ge 3 ]] || { sed -n '2,13p' "$0" >&2; exit 2; }
 R=$1; TILE=$2; STEPS=$3; SAMPLE=${4:-config/samples/dense_1000.h5}
 BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
 [[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "phase_breakdown: ROUNDS must be a whole number >= 1" >&2; exit 2; }
@@ -46,6 +47,19 @@ for t in 1 2; do
     ((th == 0)) && printf ' %9s' "$(col "${t}" us_per_particle_step | median)"
     echo
   done
+done
+# the team's mean waits split step by step (phase_times.h): imbalance, its
+# steady part (what a better fixed cut would recover) and overhead
+waits_us() {
+  for ((r = 1; r <= R; ++r)); do
+    awk -v k="region_waits_$2:" -v f="$3" -v steps="${STEPS}" \
+      '$1 == k { for (i = 2; i < NF; i += 2) if ($i == f) printf "%.1f\n", 1e6 * $(i + 1) / steps }' "${work}/$1_${r}"
+  done
+}
+for region in forces integration; do
+  printf 'two threads, %-11s waits: imbalance %s (steady %s), overhead %s us per step\n' "${region}" \
+    "$(waits_us 2 "${region}" imbalance | median)" "$(waits_us 2 "${region}" steady | median)" \
+    "$(waits_us 2 "${region}" overhead | median)"
 done
 echo "two threads / one: speed-up, median of the rounds' $(paste <(col 1 us_per_particle_step) <(col 2 us_per_particle_step) |
   awk '{ printf "%.4f\n", $1 / $2 }' | median)x"

@@ -176,7 +176,32 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
+  const auto tail_sphere = [&](const SplitSums::Tail& x) {
+    const std::int32_t i = x.particle;
+    const double ri = rad[i];
+    Vec3 f = fout[i], t = tout[i];
+    for (std::int32_t g = x.slot; g < goff[i + 1]; ++g) {
+      const PairState& s = ps[gcode[g] >> 2];
+      f += s.force;
+      t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
+    }
+    fout[i] = f;
+    tout[i] = t;
+  };
   SplitSums* split = &split_;
+  // Thread t's tails (SplitSums::edge_tails), the pair states of the
+  // particles kPrefetchParticles ahead prefetched.
+  const auto add_tails = [&](int t, const auto& tail) {
+    const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
+    const std::size_t nt = tails.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
+    for (std::size_t k = 0; k < nt; ++k) {
+      if (k + ahead < nt) {
+        const SplitSums::Tail& a = tails[k + ahead];
+        for (std::int32_t g = a.slot; g < goff[a.particle + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
+      }
+      tail(tails[k]);
+    }
+  };
   ThreadRuns* runs = &runs_;
   // The plan is checked before the team forms, so that every thread takes
   // the same path (a team smaller than planned remakes it).
@@ -188,11 +213,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
-  // in list order (or the gather after it). Several: spheres, each thread's
-  // pair loop sums its run's particles, with ghosts (split_sums.h), no
-  // barrier; spheroids, each thread's pair loop sums its run's particles
-  // too (no ghosts: their pairs are dear), barrier, then the particles of
-  // pairs that cross runs (SplitSums::edge_particles) gather.
+  // in list order (or the gather after it). Several (split_sums.h): each
+  // thread's pair loop sums its run's particles (spheres: after the ghosts
+  // of lower runs), barrier, then the particles with terms of pairs owned
+  // in other runs are completed, shared among the threads: spheroids'
+  // edge particles gathered again, tails added.
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -224,9 +249,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
       // and the sums, so it mostly reads the particles it wrote itself.
-      // Spheres: ghosts, no gather (split_sums.h); spheroids gather the
-      // particles of pairs crossing runs (their pair loop is dearer per
-      // contact than a gather).
+      // The runs are cut by the time before the barrier; the completions
+      // after it are shared by slots (split_sums.h).
       if (!plan_current || team != planned_team) {
 #pragma omp single
         {
@@ -244,8 +268,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
       if (spheroids) {
         // home: particles [i0, i1); the pair loop sums them as on one
-        // thread, and those with a pair crossing runs are gathered again
-        // once every run's pairs are in (SplitSums::edge_particles)
+        // thread, and those with a pair crossing runs are completed once
+        // every run's pairs are in (edge_particles, edge_tails)
         refresh_bodies(i0, i1);
         std::fill(fout + i0, fout + i1, Vec3{});
         std::fill(tout + i0, tout + i1, Vec3{});
@@ -264,22 +288,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const std::vector<std::int32_t>& edge = split->edge_particles(t);
         const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
         for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
-        const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
-        const std::size_t nt = tails.size();
-        for (std::size_t k = 0; k < nt; ++k) {
-          if (k + ahead < nt) {
-            const SplitSums::Tail& a = tails[k + ahead];
-            for (std::int32_t g = a.slot; g < goff[a.particle + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
-          }
-          tail_spheroid(tails[k]);
-        }
+        add_tails(t, tail_spheroid);
         const double summed = omp_get_wtime() - summing;
-        runs->record(t, prepared + paired + summed);
+        runs->record(t, prepared + paired);
         phases->add(t, PhaseTimes::Prepare, prepared);
         phases->add(t, PhaseTimes::Pairs, paired);
         phases->add(t, PhaseTimes::Sums, summed);
       } else {
-        // home: particles [i0, i1); ghosts before, own chunks, ghosts after
+        // home: particles [i0, i1); ghosts of lower runs, own chunks,
+        // barrier, then the share of tails (terms of higher runs)
         std::fill(fout + i0, fout + i1, Vec3{});
         std::fill(tout + i0, tout + i1, Vec3{});
         const double t1 = omp_get_wtime();
@@ -297,17 +314,19 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const double t2 = omp_get_wtime();
         for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(split_kernel, own, c);
         const double t3 = omp_get_wtime();
-        ghosts(split->ghosts_after(t));
-        const double t4 = omp_get_wtime();
         // the springs of this run's boundary entries, for the next step's ghosts
         Vec3* next = split->next_ghost_springs() + split->boundary_slot(t);
         for (const std::int32_t e : split->boundary(t)) *next++ = in.spring[e];
+        const double t4 = omp_get_wtime();
+#pragma omp barrier
         const double t5 = omp_get_wtime();
-        runs->record(t, t5 - start);
+        add_tails(t, tail_sphere);
+        const double t6 = omp_get_wtime();
+        runs->record(t, t4 - start);
         phases->add(t, PhaseTimes::Prepare, t1 - start);
-        phases->add(t, PhaseTimes::Ghosts, (t2 - t1) + (t4 - t3));
+        phases->add(t, PhaseTimes::Ghosts, t2 - t1);
         phases->add(t, PhaseTimes::Pairs, t3 - t2);
-        phases->add(t, PhaseTimes::Sums, t5 - t4);
+        phases->add(t, PhaseTimes::Sums, (t4 - t3) + (t6 - t5));
       }
     }
   }

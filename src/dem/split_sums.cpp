@@ -45,9 +45,10 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     // before_ and after_ filled run by run of the owner: entry order too,
     // since runs are ranges of owners
     ghosts_ = static_cast<std::size_t>(slot);
-    // edge particles: the spheroid path's only (the sphere path has ghosts)
-    edge_.assign(list.has_spheroids() ? t_count : 0, {});
-    tail_.assign(edge_.size(), {});
+    // completions after the barrier: edge particles (spheroid lists; the
+    // sphere path has ghosts) and tails, per run, then shared by slots read
+    edge_.assign(t_count, {});
+    tail_.assign(t_count, {});
     const std::int32_t* goff = list.gather_offsets().data();
     const std::int32_t* gcode = list.gather_codes().data();
     const auto partners_of = [&](const std::vector<Ghost>& ghosts) {
@@ -57,16 +58,32 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
       p.erase(std::unique(p.begin(), p.end()), p.end());
       return p;
     };
-    for (std::size_t t = 0; t < edge_.size(); ++t) {
-      edge_[t] = partners_of(before_[t]);
+    std::vector<std::vector<std::int32_t>> edge_run(t_count);
+    std::vector<std::vector<Tail>> tail_run(t_count);
+    std::int64_t total = 0;  // slots read by all completions
+    for (std::size_t t = 0; t < t_count; ++t) {
+      if (list.has_spheroids()) edge_run[t] = partners_of(before_[t]);
+      for (const std::int32_t j : edge_run[t]) total += goff[j + 1] - goff[j];
       for (const std::int32_t j : partners_of(after_[t])) {
-        if (std::binary_search(edge_[t].begin(), edge_[t].end(), j)) continue;
+        if (std::binary_search(edge_run[t].begin(), edge_run[t].end(), j)) continue;
         std::int32_t g = goff[j];  // the first slot owned in a higher run (one exists)
         while ((gcode[g] & 2) != 0 || run_of(owners[static_cast<std::size_t>(gcode[g] >> 2)]) <= static_cast<int>(t))
           ++g;
-        tail_[t].push_back({j, g});
+        tail_run[t].push_back({j, g});
+        total += goff[j + 1] - g;
       }
     }
+    // thread shares: consecutive items, cut by the slots read before them
+    std::int64_t done = 0;
+    const auto share = [&](std::int64_t cost) {
+      const auto s = static_cast<std::size_t>(done * static_cast<std::int64_t>(t_count) / std::max<std::int64_t>(total, 1));
+      done += cost;
+      return std::min(s, t_count - 1);
+    };
+    for (std::size_t t = 0; t < t_count; ++t)
+      for (const std::int32_t j : edge_run[t]) edge_[share(goff[j + 1] - goff[j])].push_back(j);
+    for (std::size_t t = 0; t < t_count; ++t)
+      for (const Tail& x : tail_run[t]) tail_[share(goff[x.particle + 1] - x.slot)].push_back(x);
     for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
   }
   const std::vector<Vec3>& spring = list.pairs().spring;

@@ -1,6 +1,8 @@
 // PhaseTimes (dem/phase_times.h): where a step's time goes per thread.
 //   - the arithmetic: busy = sum of the phases, waits = both regions less
-//     busy, reset zeroes everything, a thread without a slot reads 0;
+//     busy, reset zeroes everything, a thread without a slot reads 0; the
+//     waits split step by step into imbalance (its steady part from the
+//     totals) and overhead, against hand sums;
 //   - on spatially sorted sphere and spheroid packings stepped by Simulation
 //     on one and on two threads: every thread of the team times its own pair
 //     loop and its integration (> 0), on two threads its preparation and its
@@ -50,6 +52,42 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Integrate), "integrate");
 }
 
+TEST(PhaseTimes, WaitsSplitIntoImbalanceSteadyPartAndOverhead) {
+  PhaseTimes pt;
+  pt.ensure_threads(3);  // thread 2 never in a team
+  // force region, step 1: thread 0 busy 3, thread 1 busy 1, wall 3.5
+  pt.add(0, PhaseTimes::Pairs, 2.0);
+  pt.add(0, PhaseTimes::Ghosts, 1.0);
+  pt.add(1, PhaseTimes::Pairs, 1.0);
+  pt.add_region(PhaseTimes::ForceRegion, 3.5);
+  // integration, step 1: 0.5 and 0.5, wall 0.75
+  pt.add(0, PhaseTimes::Integrate, 0.5);
+  pt.add(1, PhaseTimes::Integrate, 0.5);
+  pt.add_region(PhaseTimes::IntegrationRegion, 0.75);
+  // force region, step 2: thread 0 busy 1, thread 1 busy 4, wall 4.25
+  pt.add(0, PhaseTimes::Pairs, 1.0);
+  pt.add(1, PhaseTimes::Pairs, 4.0);
+  pt.add_region(PhaseTimes::ForceRegion, 4.25);
+  // force: sum of (max - mean) = (3 - 2) + (4 - 2.5); totals 4 and 5
+  EXPECT_DOUBLE_EQ(pt.imbalance(PhaseTimes::ForceRegion), 2.5);
+  EXPECT_DOUBLE_EQ(pt.steady_imbalance(PhaseTimes::ForceRegion), 0.5);
+  EXPECT_DOUBLE_EQ(pt.overhead(PhaseTimes::ForceRegion), 0.5 + 0.25);
+  EXPECT_DOUBLE_EQ(pt.imbalance(PhaseTimes::IntegrationRegion), 0.0);
+  EXPECT_DOUBLE_EQ(pt.overhead(PhaseTimes::IntegrationRegion), 0.25);
+  // the team's mean waits are imbalance + overhead over both regions
+  const double mean_waits = 0.5 * (pt.waits(0) + pt.waits(1));
+  EXPECT_DOUBLE_EQ(mean_waits, pt.imbalance(PhaseTimes::ForceRegion) + pt.overhead(PhaseTimes::ForceRegion) +
+                                   pt.imbalance(PhaseTimes::IntegrationRegion) +
+                                   pt.overhead(PhaseTimes::IntegrationRegion));
+  // one thread: no imbalance, overhead = wall - busy
+  pt.reset();
+  pt.add(0, PhaseTimes::Pairs, 1.0);
+  pt.add_region(PhaseTimes::ForceRegion, 1.25);
+  EXPECT_EQ(pt.imbalance(PhaseTimes::ForceRegion), 0.0);
+  EXPECT_EQ(pt.steady_imbalance(PhaseTimes::ForceRegion), 0.0);
+  EXPECT_EQ(pt.overhead(PhaseTimes::ForceRegion), 0.25);
+}
+
 namespace {
 
 /// Restores the caller's OpenMP thread count, also when an assertion ends a test early.
@@ -87,16 +125,28 @@ void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
       EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
     } else {
       // every thread zeroes its own sums and ends with its own sums pass
-      // (the ghosts' springs, or the spheroids' edge gather)
+      // (its boundary springs, its share of the completions)
       EXPECT_GT(pt.seconds(t, PhaseTimes::Prepare), 0.0) << at;
       EXPECT_GT(pt.seconds(t, PhaseTimes::Sums), 0.0) << at;
-      if (ghosts) {
-        EXPECT_GT(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
+      if (ghosts) {  // the ghosts of lower runs: every thread but the first
+        if (t > 0) {
+          EXPECT_GT(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
+        }
       } else {
         EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
       }
     }
   }
+  // the team's mean waits split into imbalance and overhead, step by step
+  double mean_waits = 0.0, split = 0.0;
+  for (int t = 0; t < threads; ++t) mean_waits += pt.waits(t) / threads;
+  for (const auto r : {PhaseTimes::ForceRegion, PhaseTimes::IntegrationRegion}) {
+    EXPECT_GE(pt.imbalance(r), pt.steady_imbalance(r));
+    EXPECT_GE(pt.steady_imbalance(r), 0.0);
+    EXPECT_GE(pt.overhead(r), 0.0);
+    split += pt.imbalance(r) + pt.overhead(r);
+  }
+  EXPECT_NEAR(mean_waits, split, 1e-9) << threads << " threads";
   if (threads > 1) {
     EXPECT_EQ(sim.split_used(), ghosts);
     if (ghosts) {

@@ -13,10 +13,12 @@
 //     on both sides;
 //   - the ghost springs are the list's springs when the plan is made, and
 //     after a step the ones the owners put for the next one;
-//   - spheroid lists: edge_particles(t) are exactly the partners in run t
-//     of pairs owned in a lower run, edge_tails(t) the other partners of
-//     pairs owned in other runs, each with the first of its gather slots
-//     owned in a higher run, after which all are (the sums themselves:
+//   - the completions after the pair loops: every partner of a pair owned
+//     in another run exactly once, as an edge particle (spheroid lists,
+//     some pair owned in a lower run) or a tail starting at its first slot
+//     owned in a higher run, shared among the threads in order and in about
+//     equal slots (the sums themselves: Restart.
+//     PairLoopSumsEqualTheGatherAcrossChunks,
 //     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
 //   - the plan follows the runs and the steps.
 #include <gtest/gtest.h>
@@ -25,6 +27,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "support/scenes.h"
@@ -165,61 +168,90 @@ TEST(SplitSums, GhostSpringsFollowTheStepsAndThePlan) {
   EXPECT_FALSE(plan.current(list, n, runs, 4));
 }
 
-TEST(SplitSums, SpheroidEdgesGatherAfterLowerRunsAndAddTheTailsOfHigherRuns) {
-  // 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
-  omp_set_num_threads(1);
-  Simulation sim(vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)));
-  ASSERT_EQ(sim.run(5), 5) << sim.failure();
-  omp_set_num_threads(omp_get_num_procs());
-  const NeighborList& list = sim.neighbor_list();
-  ASSERT_TRUE(list.has_spheroids());
-  const std::size_t n = sim.particles().size();
+namespace {
+
+/// The completions of `list` (sphere or spheroid) on `threads` equal runs:
+/// every partner of a pair owned in another run exactly once (spheroids: an
+/// edge particle when some such pair is owned in a lower run; otherwise a
+/// tail, whose slot starts the slots owned in higher runs), each thread's
+/// share ascending, the shares in order and about equal in slots read.
+/// Returns {edge particles, tails}.
+std::pair<std::size_t, std::size_t> check_completions(const NeighborList& list, std::size_t n, int threads) {
+  ThreadRuns runs;
+  runs.prepare(chunk_count(n), n, threads);
+  SplitSums plan;
+  plan.prepare(list, n, runs, 1);
+  const std::vector<int> run_of = run_of_particles(runs, n);
   const std::vector<std::int32_t>& owners = list.owners();
   const std::vector<std::int32_t>& partner = list.pairs().partner;
   const std::vector<std::int32_t>& goff = list.gather_offsets();
   const std::vector<std::int32_t>& gcode = list.gather_codes();
-  for (const int threads : {2, 3}) {
-    ThreadRuns runs;
-    runs.prepare(chunk_count(n), n, threads);
-    SplitSums plan;
-    plan.prepare(list, n, runs, 1);
-    const std::vector<int> run_of = run_of_particles(runs, n);
-    std::size_t tails_seen = 0, middle_both = 0;
-    for (int t = 0; t < threads; ++t) {
-      std::vector<bool> lower(n, false), higher(n, false);
-      for (std::size_t e = 0; e < partner.size(); ++e) {
-        const auto j = static_cast<std::size_t>(partner[e]);
-        const int to = run_of[static_cast<std::size_t>(owners[e])];
-        if (run_of[j] != t) continue;
-        if (to < t) lower[j] = true;
-        if (to > t) higher[j] = true;
-      }
-      std::vector<std::int32_t> edge, tail;
-      for (std::size_t j = 0; j < n; ++j) {
-        if (lower[j]) {
-          edge.push_back(static_cast<std::int32_t>(j));
-        } else if (higher[j]) {
-          tail.push_back(static_cast<std::int32_t>(j));
-        }
-      }
-      EXPECT_EQ(plan.edge_particles(t), edge) << threads << " threads, run " << t;
-      std::vector<std::int32_t> tail_particles;
-      for (const SplitSums::Tail& x : plan.edge_tails(t)) {
-        tail_particles.push_back(x.particle);
-        // slots before x.slot: owned in run t or lower; from it: higher runs
-        for (std::int32_t g = goff[static_cast<std::size_t>(x.particle)];
-             g < goff[static_cast<std::size_t>(x.particle) + 1]; ++g) {
-          const auto e = static_cast<std::size_t>(gcode[static_cast<std::size_t>(g)] >> 2);
-          const bool own = (gcode[static_cast<std::size_t>(g)] & 2) != 0;
-          const bool from_higher = !own && run_of[static_cast<std::size_t>(owners[e])] > t;
-          EXPECT_EQ(from_higher, g >= x.slot) << "particle " << x.particle << ", slot " << g;
-        }
-      }
-      EXPECT_EQ(tail_particles, tail) << threads << " threads, run " << t;
-      tails_seen += tail.size();
-      if (t > 0 && t + 1 < threads && !edge.empty() && !tail.empty()) ++middle_both;
+  std::vector<bool> lower(n, false), higher(n, false);
+  for (std::size_t e = 0; e < partner.size(); ++e) {
+    const auto j = static_cast<std::size_t>(partner[e]);
+    const int to = run_of[static_cast<std::size_t>(owners[e])];
+    if (to < run_of[j]) lower[j] = true;
+    if (to > run_of[j]) higher[j] = true;
+  }
+  std::vector<std::int32_t> edge, tail;  // ascending = run by run
+  for (std::size_t j = 0; j < n; ++j) {
+    if (lower[j] && list.has_spheroids()) {
+      edge.push_back(static_cast<std::int32_t>(j));
+    } else if (higher[j]) {
+      tail.push_back(static_cast<std::int32_t>(j));
     }
-    EXPECT_GT(tails_seen, 0u) << threads << " threads";
-    if (threads == 3) EXPECT_EQ(middle_both, 1u) << "the middle run has both kinds";
+  }
+  std::vector<std::int32_t> edge_shares, tail_shares;
+  std::vector<std::int64_t> slots(static_cast<std::size_t>(threads), 0);
+  std::int64_t largest = 0;
+  for (int t = 0; t < threads; ++t) {
+    std::int64_t& mine = slots[static_cast<std::size_t>(t)];
+    for (const std::int32_t j : plan.edge_particles(t)) {
+      edge_shares.push_back(j);
+      mine += goff[static_cast<std::size_t>(j) + 1] - goff[static_cast<std::size_t>(j)];
+      largest = std::max<std::int64_t>(largest, goff[static_cast<std::size_t>(j) + 1] - goff[static_cast<std::size_t>(j)]);
+    }
+    for (const SplitSums::Tail& x : plan.edge_tails(t)) {
+      tail_shares.push_back(x.particle);
+      const auto i = static_cast<std::size_t>(x.particle);
+      mine += goff[i + 1] - x.slot;
+      largest = std::max<std::int64_t>(largest, goff[i + 1] - x.slot);
+      // slots before x.slot: owned in the particle's run or lower; from it: higher runs
+      for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
+        const std::int32_t code = gcode[static_cast<std::size_t>(g)];
+        const bool from_higher = (code & 2) == 0 && run_of[static_cast<std::size_t>(owners[static_cast<std::size_t>(code >> 2)])] > run_of[i];
+        EXPECT_EQ(from_higher, g >= x.slot) << "particle " << x.particle << ", slot " << g;
+      }
+    }
+  }
+  EXPECT_EQ(edge_shares, edge) << threads << " threads";
+  EXPECT_EQ(tail_shares, tail) << threads << " threads";
+  std::int64_t total = 0;
+  for (const std::int64_t s : slots) total += s;
+  for (int t = 0; t < threads; ++t)
+    EXPECT_LE(slots[static_cast<std::size_t>(t)], total / threads + largest + 1) << "share of thread " << t;
+  return {edge.size(), tail.size()};
+}
+
+}  // namespace
+
+TEST(SplitSums, CompletionsTakeEveryCrossingPartnerOnceInSharesOfEqualSlots) {
+  // spheres: no edge particles (ghosts), tails
+  const Simulation spheres = sorted_packing();
+  for (const int threads : {2, 3}) {
+    const auto [edge, tails] = check_completions(spheres.neighbor_list(), spheres.particles().size(), threads);
+    EXPECT_EQ(edge, 0u);
+    EXPECT_GT(tails, 0u);
+  }
+  // spheroids: 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
+  omp_set_num_threads(1);
+  Simulation sim(vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)));
+  ASSERT_EQ(sim.run(5), 5) << sim.failure();
+  omp_set_num_threads(omp_get_num_procs());
+  ASSERT_TRUE(sim.neighbor_list().has_spheroids());
+  for (const int threads : {2, 3}) {
+    const auto [edge, tails] = check_completions(sim.neighbor_list(), sim.particles().size(), threads);
+    EXPECT_GT(edge, 0u);
+    EXPECT_GT(tails, 0u);
   }
 }

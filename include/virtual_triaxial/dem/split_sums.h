@@ -1,27 +1,35 @@
 // Per-particle force and moment sums of the pair loop on several threads
-// (ContactForces::compute): spheres without a gather, as below; spheroids
-// gather only their edge particles (edge_particles).
+// (ContactForces::compute), without a gather of every particle.
 //
 // Thread t takes its run of chunks (thread_runs.h): the particles of the
 // run are its "home". Its pair loop evaluates the pairs owned in its run, as
 // the one-thread loop does, and adds each to the owner and, when home, to
-// the partner, right in the force and moment arrays. A pair owned in
-// another run whose partner is home (a "ghost" of thread t) is evaluated
-// by thread t again, from the same inputs, so with the same force and
-// moment bit for bit, and added to the partner only; it is stored (state,
-// spring, chunk sums) by its owner alone. Thread t takes its ghosts owned
-// in lower runs first, then its own chunks, then its ghosts owned in higher
-// runs: entries are ordered by owner and runs are ranges of owners, so
-// every home particle gets its terms in list order, from zero, as on one
-// thread. The sums therefore depend neither on the thread count nor on the
-// runs; there is no gather and no barrier between the pair loop and the
-// sums, at the cost of evaluating the pairs that cross runs twice.
+// the partner, right in the force and moment arrays. Entries are ordered by
+// owner and runs are ranges of owners, so a home particle's terms in list
+// order are: those of pairs owned in lower runs, then those of its own run,
+// then those of pairs owned in higher runs. Its sum is made in that order,
+// from zero, as on one thread:
+//   - lower runs, spheres: a pair owned in a lower run whose partner is
+//     home (a "ghost" of thread t, ghosts_before) is evaluated by thread t
+//     again, before its own chunks, from the same inputs, so with the same
+//     force and moment bit for bit, and added to the partner only; it is
+//     stored (state, spring, chunk sums) by its owner alone. Spheroids (too
+//     dear to evaluate twice): such a particle (edge_particles) is gathered
+//     again from all its slots once every pair loop is done;
+//   - higher runs: once every pair loop is done (a barrier), the terms of
+//     the pairs owned in higher runs (ghosts_after) come last, so adding
+//     them from their pair states to the pair loop's sum completes it bit
+//     for bit (edge_tails).
+// Those completions after the barrier are shared among the threads by the
+// slots they read, not by run (each writes one particle's sums), and the
+// runs are cut by the time of the work before the barrier. The sums
+// therefore depend neither on the thread count nor on the runs.
 //
 // A ghost must see the spring at the start of the step while its owner
 // overwrites it, so the owner copies the springs of its boundary entries
 // (partner outside its run) at the end of its pair loop into a write
 // buffer, read as the ghosts' springs in the next step (two buffers of one
-// slot per ghost, swapped every step). They are refilled from the list
+// slot per crossing entry, swapped every step). They are refilled from the list
 // when the plan is remade (list rebuilt, runs or N changed) or a step was
 // taken without it. (NeighborList::restore, which writes springs without a
 // rebuild, is called by constructors only, before the first step.)
@@ -57,29 +65,27 @@ class SplitSums {
   /// After every step taken with the plan (serially): swaps the buffers.
   void finish_step(std::int64_t stamp);
 
-  /// Entries owned in runs before (after) t whose partner is in run t, ascending.
+  /// Entries owned in runs before (after) t whose partner is in run t,
+  /// ascending (spheres: the ghosts evaluated again, the terms the tails add).
   const std::vector<Ghost>& ghosts_before(int t) const { return before_[static_cast<std::size_t>(t)]; }
   const std::vector<Ghost>& ghosts_after(int t) const { return after_[static_cast<std::size_t>(t)]; }
   /// Entries owned in run t whose partner is in another run, ascending;
   /// the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
-  /// Lists with spheroids only (NeighborList::has_spheroids). The particles
-  /// of run t that are partners of pairs owned in other runs (of
-  /// ghosts_before(t) and ghosts_after(t)) take terms that other threads
-  /// evaluate: the spheroid path completes their sums once every thread's
-  /// pair loop is done (their pairs are too dear to evaluate twice); each
-  /// thread's pair loop makes every other sum of its run (an owner of a pair
-  /// crossing runs gets that term in its own loop). Those with a pair owned
-  /// in a lower run (ghosts_before(t)) are gathered again from the start,
-  /// ascending:
+  /// The completions after the barrier (see the header comment), thread t's
+  /// share; the shares split the list of all completions (every run's
+  /// edge particles, then every run's tails) into consecutive parts of
+  /// about equal slots read. Edge particles (lists with spheroids only):
+  /// partners of pairs owned in a lower run, gathered again from all their
+  /// slots; ascending.
   const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
-  /// The others, whose terms from other runs all come from higher runs
-  /// (ghosts_after(t) only): in list order those terms come last, after
-  /// every term of the pair loop, so the pair loop's sum is the gather's
-  /// partial sum before `slot`, the first of its gather slots
-  /// (NeighborList::gather_codes) owned in a higher run, and adding the
-  /// slots from there on completes it bit for bit. Ascending by particle.
+  /// Tails: the other partners of pairs owned in other runs (ghosts_after
+  /// of their run), whose terms from other runs come last in list order,
+  /// so the pair loop's sum is the gather's partial sum before `slot`, the
+  /// first of its gather slots (NeighborList::gather_codes) owned in a
+  /// higher run, and adding the slots from there on completes it bit for
+  /// bit. Ascending by particle.
   struct Tail {
     std::int32_t particle;
     std::int32_t slot;
@@ -89,7 +95,8 @@ class SplitSums {
   const Vec3* ghost_springs() const { return spring_[read_].data(); }
   /// Where the owners put the springs of their boundary entries this step, by slot.
   Vec3* next_ghost_springs() { return spring_[1 - read_].data(); }
-  /// Pairs evaluated twice per step (ghost entries).
+  /// Entries crossing runs (all ghosts_before and ghosts_after; the spheres
+  /// evaluate those of ghosts_before twice per step).
   std::size_t ghost_count() const { return ghosts_; }
 
  private:
