@@ -29,21 +29,20 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     boundary_.assign(t_count, {});
     const std::vector<std::int32_t>& owners = list.owners();
     for (std::size_t e = 0; e < partner.size(); ++e) {  // ascending: every list stays sorted
-      const int to = run_of(owners[e]);
-      if (to != run_of(partner[e])) boundary_[static_cast<std::size_t>(to)].push_back(static_cast<std::int32_t>(e));
+      const int to = run_of(owners[e]), tp = run_of(partner[e]);
+      if (to < tp) boundary_[static_cast<std::size_t>(to)].push_back(static_cast<std::int32_t>(e));
+      if (to > tp) after_[static_cast<std::size_t>(tp)].push_back({static_cast<std::int32_t>(e), -1});
     }
     // slots: the boundary entries run by run, each run's in entry order
     boundary_slot_.assign(t_count, 0);
     std::int32_t slot = 0;
     for (std::size_t t = 0; t < t_count; ++t) {
       boundary_slot_[t] = slot;
-      for (const std::int32_t e : boundary_[t]) {
-        const int tp = run_of(partner[static_cast<std::size_t>(e)]);
-        (static_cast<int>(t) < tp ? before_ : after_)[static_cast<std::size_t>(tp)].push_back({e, slot++});
-      }
+      for (const std::int32_t e : boundary_[t])
+        before_[static_cast<std::size_t>(run_of(partner[static_cast<std::size_t>(e)]))].push_back({e, slot++});
     }
-    // before_ and after_ filled run by run of the owner: entry order too,
-    // since runs are ranges of owners
+    // before_ filled run by run of the owner: entry order too, since runs
+    // are ranges of owners
     ghosts_ = static_cast<std::size_t>(slot);
     // completions after the barrier: edge particles (spheroid lists; the
     // sphere path has ghosts) and tails, per run, then shared by slots read

@@ -171,14 +171,14 @@ class ContactForces {
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several: spheres, see split_used(); spheroids, each thread's pair loop
-  /// and a gather of its edge particles, split_sums.h).
+  /// several: each thread's pair loop and, after a barrier, the completions
+  /// of the sums of particles with pairs crossing runs, split_sums.h).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
   /// Sphere path on several threads: pairs the last compute() evaluated
   /// twice, as ghosts (split_sums.h); 0 otherwise.
   std::size_t split_ghosts() const { return split_used_ ? split_.ghost_count() : 0; }
   /// Whether the last compute() took the sphere path on several threads
-  /// (each thread's pair loop with ghosts, split_sums.h).
+  /// (each thread's pair loop with ghosts and tails, split_sums.h).
   bool split_used() const { return split_used_; }
   /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().

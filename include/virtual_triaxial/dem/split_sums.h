@@ -27,9 +27,9 @@
 //
 // A ghost must see the spring at the start of the step while its owner
 // overwrites it, so the owner copies the springs of its boundary entries
-// (partner outside its run) at the end of its pair loop into a write
+// (partner in a higher run) at the end of its pair loop into a write
 // buffer, read as the ghosts' springs in the next step (two buffers of one
-// slot per crossing entry, swapped every step). They are refilled from the list
+// slot per ghost, swapped every step). They are refilled from the list
 // when the plan is remade (list rebuilt, runs or N changed) or a step was
 // taken without it. (NeighborList::restore, which writes springs without a
 // rebuild, is called by constructors only, before the first step.)
@@ -46,7 +46,8 @@ namespace vt::dem {
 
 class SplitSums {
  public:
-  /// A ghost: its list entry and its slot in the ghost spring buffers.
+  /// A ghost: its list entry and its slot in the ghost spring buffers (-1
+  /// in ghosts_after: the tails read pair states, not springs).
   struct Ghost {
     std::int32_t entry;
     std::int32_t slot;
@@ -69,8 +70,8 @@ class SplitSums {
   /// ascending (spheres: the ghosts evaluated again, the terms the tails add).
   const std::vector<Ghost>& ghosts_before(int t) const { return before_[static_cast<std::size_t>(t)]; }
   const std::vector<Ghost>& ghosts_after(int t) const { return after_[static_cast<std::size_t>(t)]; }
-  /// Entries owned in run t whose partner is in another run, ascending;
-  /// the k-th has slot boundary_slot(t) + k.
+  /// Entries owned in run t whose partner is in a higher run (ghosts of
+  /// that run), ascending; the k-th has slot boundary_slot(t) + k.
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
   /// The completions after the barrier (see the header comment), thread t's
@@ -95,8 +96,7 @@ class SplitSums {
   const Vec3* ghost_springs() const { return spring_[read_].data(); }
   /// Where the owners put the springs of their boundary entries this step, by slot.
   Vec3* next_ghost_springs() { return spring_[1 - read_].data(); }
-  /// Entries crossing runs (all ghosts_before and ghosts_after; the spheres
-  /// evaluate those of ghosts_before twice per step).
+  /// Pairs the sphere path evaluates twice per step (all ghosts_before).
   std::size_t ghost_count() const { return ghosts_; }
 
  private:
