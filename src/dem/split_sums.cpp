@@ -72,17 +72,28 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
         total += goff[j + 1] - g;
       }
     }
-    // thread shares: consecutive items, cut by the slots read before them
+    // thread shares: the completions in particle order (so mostly of the
+    // thread's own run, whose sums it integrates next), cut into
+    // consecutive parts by the slots read before them
     std::int64_t done = 0;
     const auto share = [&](std::int64_t cost) {
       const auto s = static_cast<std::size_t>(done * static_cast<std::int64_t>(t_count) / std::max<std::int64_t>(total, 1));
       done += cost;
       return std::min(s, t_count - 1);
     };
-    for (std::size_t t = 0; t < t_count; ++t)
-      for (const std::int32_t j : edge_run[t]) edge_[share(goff[j + 1] - goff[j])].push_back(j);
-    for (std::size_t t = 0; t < t_count; ++t)
-      for (const Tail& x : tail_run[t]) tail_[share(goff[x.particle + 1] - x.slot)].push_back(x);
+    for (std::size_t t = 0; t < t_count; ++t) {
+      auto edge = edge_run[t].begin();
+      auto tail = tail_run[t].begin();
+      while (edge != edge_run[t].end() || tail != tail_run[t].end()) {
+        if (tail == tail_run[t].end() || (edge != edge_run[t].end() && *edge < tail->particle)) {
+          edge_[share(goff[*edge + 1] - goff[*edge])].push_back(*edge);
+          ++edge;
+        } else {
+          tail_[share(goff[tail->particle + 1] - tail->slot)].push_back(*tail);
+          ++tail;
+        }
+      }
+    }
     for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
   }
   const std::vector<Vec3>& spring = list.pairs().spring;

@@ -17,7 +17,7 @@
 //   - the completions after the pair loops: every partner of a pair owned
 //     in another run exactly once, as an edge particle (spheroid lists,
 //     some pair owned in a lower run) or a tail starting at its first slot
-//     owned in a higher run, shared among the threads in order and in about
+//     owned in a higher run, shared among the threads in particle order and in about
 //     equal slots (the sums themselves: Restart.
 //     PairLoopSumsEqualTheGatherAcrossChunks,
 //     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
@@ -186,7 +186,8 @@ namespace {
 /// every partner of a pair owned in another run exactly once (spheroids: an
 /// edge particle when some such pair is owned in a lower run; otherwise a
 /// tail, whose slot starts the slots owned in higher runs), each thread's
-/// share ascending, the shares in order and about equal in slots read.
+/// share ascending, the shares consecutive in particle order (edge particles
+/// and tails together) and about equal in slots read.
 /// Returns {edge particles, tails}.
 std::pair<std::size_t, std::size_t> check_completions(const NeighborList& list, std::size_t n, int threads) {
   const auto [plan, run_of] = plan_of(list, n, threads);
@@ -212,8 +213,20 @@ std::pair<std::size_t, std::size_t> check_completions(const NeighborList& list, 
   std::vector<std::int32_t> edge_shares, tail_shares;
   std::vector<std::int64_t> slots(static_cast<std::size_t>(threads), 0);
   std::int64_t largest = 0;
+  std::int32_t last = -1;  // the last particle of the shares before
   for (int t = 0; t < threads; ++t) {
     std::int64_t& mine = slots[static_cast<std::size_t>(t)];
+    std::int32_t first = INT32_MAX, most = -1;
+    std::vector<std::int32_t> mine_all = plan.edge_particles(t);
+    for (const SplitSums::Tail& x : plan.edge_tails(t)) mine_all.push_back(x.particle);
+    for (const std::int32_t j : mine_all) {
+      first = std::min(first, j);
+      most = std::max(most, j);
+    }
+    if (most >= 0) {
+      EXPECT_GT(first, last) << "shares in particle order: thread " << t;
+      last = most;
+    }
     for (const std::int32_t j : plan.edge_particles(t)) {
       edge_shares.push_back(j);
       mine += goff[static_cast<std::size_t>(j) + 1] - goff[static_cast<std::size_t>(j)];

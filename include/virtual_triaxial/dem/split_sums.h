@@ -75,9 +75,9 @@ class SplitSums {
   const std::vector<std::int32_t>& boundary(int t) const { return boundary_[static_cast<std::size_t>(t)]; }
   std::int32_t boundary_slot(int t) const { return boundary_slot_[static_cast<std::size_t>(t)]; }
   /// The completions after the barrier (see the header comment), thread t's
-  /// share; the shares split the list of all completions (every run's
-  /// edge particles, then every run's tails) into consecutive parts of
-  /// about equal slots read. Edge particles (lists with spheroids only):
+  /// share; the shares split the list of all completions, in particle
+  /// order (so a thread mostly completes particles of its own run, which
+  /// it integrates next), into consecutive parts of about equal slots read. Edge particles (lists with spheroids only):
   /// partners of pairs owned in a lower run, gathered again from all their
   /// slots; ascending.
   const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
