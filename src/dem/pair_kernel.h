@@ -67,8 +67,9 @@ struct PairInputs {
   double viscous_a;
   // Several threads (the sphere split kernel, sphere_pair_kernel, and the
   // spheroid kernel): partners outside particles [own_begin, own_begin +
-  // own_span) take no sum here (spheres: their thread adds the pair as a
-  // ghost; spheroids: their thread gathers them, split_sums.h).
+  // own_span) take no sum here (their thread adds the pair: spheres of a
+  // higher run as a ghost, the rest after the pair loops' barrier, from the
+  // pair state, split_sums.h).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
   /// Whether particle j is summed here (in [own_begin, own_begin + own_span)).

@@ -180,7 +180,8 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       if (in.force_out) {  // the gather's arithmetic, in the gather's order
         in.force_out[i] -= f;
         in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
-        // a partner of another thread: added there as a ghost (split_sums.h)
+        // a partner of another thread: added there as a ghost (a higher run)
+        // or by a tail from the pair state (a lower run; split_sums.h)
         const bool home = !Split || in.home(j);
         Vec3& fj = home ? in.force_out[j] : sink_f;
         Vec3& tj = home ? in.torque_out[j] : sink_t;

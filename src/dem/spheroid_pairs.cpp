@@ -315,8 +315,8 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         if (in.force_out) {  // the gather's arithmetic, in the gather's order
           in.force_out[i] -= f;
           in.torque_out[i] += mi;
-          // a partner of another thread's run: gathered after the pair loops
-          // (SplitSums::edge_particles)
+          // a partner of another thread's run: completed after the pair
+          // loops (SplitSums::edge_particles, edge_tails)
           const bool home = in.home(j);
           Vec3& fj = home ? in.force_out[j] : sink_f;
           Vec3& tj = home ? in.torque_out[j] : sink_t;

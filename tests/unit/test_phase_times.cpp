@@ -8,7 +8,8 @@
 //     loop and its integration (> 0), on two threads its preparation and its
 //     sums too, no thread's phases exceed the regions that hold them
 //     (waits >= 0: the regions are timed around the team, the phases inside
-//     it, with the same clock), ghosts are timed on every thread of the
+//     it, with the same clock), the team's mean waits are imbalance +
+//     overhead, ghosts are timed on every thread but the first of the
 //     sphere path on two threads and never otherwise, and
 //     reset_phase_times() starts from zero.
 #include <gtest/gtest.h>
@@ -99,7 +100,8 @@ struct RestoreThreads {
 /// Steps `start` 5 steps on one thread, 5 on `threads` (the team's plan is
 /// made), resets the timers and steps 20 more; checks the invariants of
 /// the phase times of those 20 steps. `ghosts`: the sphere path on several
-/// threads (each thread evaluates the pairs crossing into its run again).
+/// threads (each thread evaluates the pairs owned in a lower run with a
+/// partner in its run again).
 void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
   RestoreThreads restore;
   omp_set_num_threads(1);
@@ -141,7 +143,8 @@ void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
   double mean_waits = 0.0, split = 0.0;
   for (int t = 0; t < threads; ++t) mean_waits += pt.waits(t) / threads;
   for (const auto r : {PhaseTimes::ForceRegion, PhaseTimes::IntegrationRegion}) {
-    EXPECT_GE(pt.imbalance(r), pt.steady_imbalance(r));
+    // equal when one thread is the slowest in every step: round-off decides
+    EXPECT_GE(pt.imbalance(r) + 1e-12, pt.steady_imbalance(r));
     EXPECT_GE(pt.steady_imbalance(r), 0.0);
     EXPECT_GE(pt.overhead(r), 0.0);
     split += pt.imbalance(r) + pt.overhead(r);

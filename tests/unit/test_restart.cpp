@@ -68,8 +68,9 @@ TEST(Restart, ResultIsIndependentOfThreadCount) {
 
 // One thread may sum each particle's forces inside the pair loop; more
 // threads evaluate runs of 512-particle chunks in parallel, each summing its
-// own particles, and evaluate the pairs that cross runs again as ghosts.
-// Both add the same terms in the same (list) order, so over a sample of
+// own particles, evaluate the pairs owned in a lower run again as ghosts and,
+// after a barrier, add the terms of pairs owned in a higher run from their
+// pair states (tails). Both add the same terms in the same (list) order, so over a sample of
 // several chunks, where pairs cross chunk boundaries both ways, the runs
 // agree bit for bit. Spatially sorted storage (ids no longer in storage
 // order), so that particles also have entries of owners stored after them.
@@ -92,8 +93,9 @@ TEST(Restart, PairLoopSumsEqualTheGatherAcrossChunks) {
   Simulation two(start);
   ASSERT_EQ(two.run(400), 400) << two.failure();
   // Several threads: every particle summed by its thread's pair loop, the
-  // pairs that cross runs evaluated again as ghosts (split_sums.h); they
-  // occur here.
+  // pairs owned in a lower run evaluated again as ghosts, the terms of
+  // pairs owned in a higher run added as tails (split_sums.h); they occur
+  // here.
   EXPECT_GT(two.split_ghosts(), 0u);
   EXPECT_LT(two.split_ghosts(), two.neighbor_list().pairs().size() / 4) << "most pairs are evaluated once";
   omp_set_num_threads(3);

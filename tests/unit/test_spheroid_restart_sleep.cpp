@@ -88,8 +88,8 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
   // 2 x 2 x 2 tiles of the loaded packing, sorted in space: 2400 spheroids
   // in 5 chunks, so two and three threads take runs of whole chunks with
   // pairs crossing them; each thread's pair loop sums its run and the
-  // particles of the crossing pairs are gathered after every run's pairs
-  // are in (SplitSums::edge_particles).
+  // particles of the crossing pairs are completed after every run's pairs
+  // are in (SplitSums::edge_particles, edge_tails).
   const SimulationState start =
       vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
   const std::size_t n = start.particles.size();

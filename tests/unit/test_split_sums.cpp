@@ -51,12 +51,18 @@ std::vector<std::int32_t> entries(const std::vector<SplitSums::Ghost>& g) {
   return e;
 }
 
-Simulation sorted_packing() {
+/// `start` stepped `steps` steps on one thread (the thread count restored
+/// to every CPU after, whatever happens).
+Simulation stepped_on_one_thread(const SimulationState& start, std::int64_t steps) {
   omp_set_num_threads(1);
-  Simulation sim(vt::test::spatially_sorted(vt::test::loaded_packing(1600)));
-  EXPECT_EQ(sim.run(20), 20) << sim.failure();
+  Simulation sim(start);
+  EXPECT_EQ(sim.run(steps), steps) << sim.failure();
   omp_set_num_threads(omp_get_num_procs());
   return sim;
+}
+
+Simulation sorted_packing() {
+  return stepped_on_one_thread(vt::test::spatially_sorted(vt::test::loaded_packing(1600)), 20);
 }
 
 std::vector<int> run_of_particles(const ThreadRuns& runs, std::size_t n) {
@@ -265,10 +271,8 @@ TEST(SplitSums, CompletionsTakeEveryCrossingPartnerOnceInSharesOfEqualSlots) {
     EXPECT_GT(tails, 0u);
   }
   // spheroids: 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
-  omp_set_num_threads(1);
-  Simulation sim(vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)));
-  ASSERT_EQ(sim.run(5), 5) << sim.failure();
-  omp_set_num_threads(omp_get_num_procs());
+  const Simulation sim = stepped_on_one_thread(
+      vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)), 5);
   ASSERT_TRUE(sim.neighbor_list().has_spheroids());
   for (const int threads : {2, 3}) {
     const auto [edge, tails] = check_completions(sim.neighbor_list(), sim.particles().size(), threads);

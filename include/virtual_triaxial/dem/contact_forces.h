@@ -16,9 +16,11 @@
 //     ask for the gather below instead, for A/B);
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
 //     by measured speed) and sums its run's particles in its own pair loop;
-//     a pair that crosses runs is evaluated again, as a ghost, by its
-//     partner's thread, before or after its own chunks so that the order
-//     stays the list's (split_sums.h); no gather.
+//     a sphere pair owned in a lower run is evaluated again, as a ghost, by
+//     its partner's thread before its own chunks, and after a barrier the
+//     terms of pairs owned in higher runs are added from their pair states
+//     (tails), so that the order stays the list's (split_sums.h); no gather
+//     of every particle.
 // Same terms, same order, same bits (the torque terms use fused_multiply_add
 // so that compiler contraction cannot differ between them). The sums
 // therefore depend on the storage order (fixed during a run) but not on the
@@ -64,9 +66,12 @@
 // store-forwarding stall). On one thread there is no gather (its scattered
 // reads of other particles' pair states were the step's largest cost growth
 // with N, and it costs 12 % even where they fit the L2 cache); on several
-// threads neither: the pairs that cross runs are evaluated twice instead
+// threads neither: a pair owned in a lower run is evaluated twice instead
 // (ghosts, split_sums.h; on two threads 6.7-8 % faster than gathering the
-// particles at the runs' ends at 10^5 dense spheres, within 2 % at 12 000).
+// particles at the runs' ends at 10^5 dense spheres, within 2 % at 12 000),
+// and the terms of pairs owned in higher runs come from their pair states
+// after a barrier (tails; session 20: 0.961 of the time with ghosts for
+// both at 10^5, 0.965 at 12 000).
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -84,7 +89,8 @@
 // spheroid_pairs.cpp). Several threads take the thread runs as for
 // spheres (support data included); each thread's pair loop sums its run's
 // particles as on one thread, and after a barrier only the particles of
-// pairs that cross runs gather (SplitSums::edge_particles; session 16:
+// pairs that cross runs are completed (SplitSums::edge_particles gather
+// again, edge_tails add the terms of higher runs; session 16:
 // gathering every particle was 17 % of a two-thread run's CPU at 12 000
 // spheroids, now 8 %; 0.954x the time, median of 20 interleaved rounds).
 #pragma once
@@ -209,7 +215,7 @@ class ContactForces {
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
-  SplitSums split_;                      ///< several threads: ghosts (spheres), edge particles (spheroids)
+  SplitSums split_;                      ///< several threads: ghosts (spheres), edge particles (spheroids), tails
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_

@@ -20,10 +20,11 @@
 //             threads: the plan of runs and ghosts when it is remade (one
 //             thread makes it while the others wait)
 //   Pairs     the thread's own pair loop (its run of chunks)
-//   Ghosts    spheres on several threads: pairs crossing runs evaluated
-//             again by the partner's thread (split_sums.h)
-//   Sums      the gather (one thread, gather mode), the spheroids' edge
-//             gather (several threads), the ghosts' springs for the next step
+//   Ghosts    spheres on several threads: pairs owned in a lower run
+//             evaluated again by the partner's thread (split_sums.h)
+//   Sums      the gather (one thread, gather mode); several threads: the
+//             ghosts' springs for the next step and, after the barrier, the
+//             thread's share of the completions (tails, spheroid edge gathers)
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
 // Waits, step by step (add_region, once per region and step, serially):
 // with b_t the busy seconds thread t added since the last add_region (this
@@ -34,11 +35,15 @@
 // so the team's mean waits are the sum over regions of imbalance +
 // overhead (when every thread was in every team). Imbalance is what the
 // threads lost waiting for the slowest at the region's end; overhead is
-// forming and joining the team and the timing. The part of the imbalance a
-// better fixed cut of the runs could recover is
+// forming and joining the team, the timing and, in a region with barriers
+// inside (the force region on several threads: before the completions,
+// and for spheroids after the support data), the waits at those barriers
+// beyond that lead (a barrier's slowest thread need not be the region's).
+// The part of the imbalance a better fixed cut of the runs could recover is
 //   steady_imbalance(r) = max_t B_t - mean_t B_t, B_t = sum of b_t   [s];
 // the rest, imbalance - steady, moves from step to step (one thread slowed
-// this step, the other the next: only balancing within the step recovers it).
+// this step, the other the next: only balancing within the step recovers
+// it). steady <= imbalance holds when the team was the same in every step.
 // The timing reads omp_get_wtime() (25-30 ns a call here) a few times per
 // thread and step; results never depend on it.
 #pragma once
@@ -73,7 +78,8 @@ class PhaseTimes {
   double waits(int t) const { return region(ForceRegion) + region(IntegrationRegion) - busy(t); }
   /// Sum over steps of the slowest thread's lead on the team's mean in region r [s].
   double imbalance(Region r) const { return imbalance_[r]; }
-  /// The same of the threads' totals in region r [s] (<= imbalance(r)).
+  /// The same of the threads' totals in region r [s] (<= imbalance(r) with
+  /// the same team in every step).
   double steady_imbalance(Region r) const;
   /// Sum over steps of region r's wall time less its slowest thread's busy time [s].
   double overhead(Region r) const { return overhead_[r]; }

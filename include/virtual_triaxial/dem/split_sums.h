@@ -60,7 +60,7 @@ class SplitSums {
   }
   /// Before step `stamp` (serially): remake the plan unless current, and
   /// refill the ghost springs from the list unless they follow on. (The
-  /// spheroid path keeps the plan for its edge particles and never reads
+  /// spheroid path keeps the plan for its completions and never reads
   /// the ghost springs; a plan serves one list build, sphere or spheroid.)
   void prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs, std::int64_t stamp);
   /// After every step taken with the plan (serially): swaps the buffers.
@@ -77,9 +77,9 @@ class SplitSums {
   /// The completions after the barrier (see the header comment), thread t's
   /// share; the shares split the list of all completions, in particle
   /// order (so a thread mostly completes particles of its own run, which
-  /// it integrates next), into consecutive parts of about equal slots read. Edge particles (lists with spheroids only):
-  /// partners of pairs owned in a lower run, gathered again from all their
-  /// slots; ascending.
+  /// it integrates next), into consecutive parts of about equal slots
+  /// read. Edge particles (lists with spheroids only): partners of pairs
+  /// owned in a lower run, gathered again from all their slots; ascending.
   const std::vector<std::int32_t>& edge_particles(int t) const { return edge_[static_cast<std::size_t>(t)]; }
   /// Tails: the other partners of pairs owned in other runs (ghosts_after
   /// of their run), whose terms from other runs come last in list order,
