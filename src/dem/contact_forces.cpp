@@ -101,13 +101,13 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
   // bit (a sum that starts at +0 and only adds or subtracts is never -0),
   // so the loop has no unpredictable branch, and the sums equal those of
-  // the one-thread pair loop, which adds the contacts only. Spheres:
-  const auto gather_sphere = [&](std::int32_t i) {
-    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
-    Vec3 f{}, t{};
+  // the one-thread pair loop, which adds the contacts only. Spheres: the
+  // slots of particle i from slot g on, added to f and t, stored as its
+  // sums (g = its first slot: the whole gather; a tail's slot: the tail,
+  // where every sign is +1):
+  const auto finish_sphere = [&](std::int32_t i, std::int32_t g, Vec3 f, Vec3 t) {
     const double ri = rad[i];
-    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
+    for (; g < goff[i + 1]; ++g) {
       const std::int32_t code = gcode[g];
       const PairState& s = ps[code >> 2];
       // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
@@ -117,6 +117,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     }
     fout[i] = f;
     tout[i] = t;
+  };
+  const auto gather_sphere = [&](std::int32_t i) {
+    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
+    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
+    finish_sphere(i, goff[i], Vec3{}, Vec3{});
   };
   // Support data of particles [i0, i1) (symmetry axis e = q (1,0,0)): one
   // rotation per particle instead of one per particle and pair.
@@ -136,6 +141,18 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // for the entries of other particles), the one on the owner in the
   // spheroid pair state (own entries: consecutive in the list).
   const SpheroidPairState* sps = spheroids ? pd.spheroid.data() : nullptr;
+  // The slots of particle i from slot g on, all of owners stored after i
+  // (the partner's terms: force and the moment on j), added to f and t,
+  // stored as its sums: the end of gather_spheroid, and a tail.
+  const auto finish_spheroid = [&](std::int32_t i, std::int32_t g, Vec3 f, Vec3 t) {
+    for (; g < goff[i + 1]; ++g) {
+      const std::int32_t e = gcode[g] >> 2;
+      f += ps[e].force;
+      t += ps[e].moment_axis;
+    }
+    fout[i] = f;
+    tout[i] = t;
+  };
   // `ahead` in [0, N]: the particle gathered kPrefetchParticles later,
   // whose pair states are prefetched (N: none).
   const auto gather_spheroid = [&](std::int32_t i, std::int32_t ahead) {
@@ -154,44 +171,14 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       f -= ps[e].force;
       t += sps[e].torque_i;
     }
-    for (; g < g_end; ++g) {  // owners stored after i
-      const std::int32_t e = gcode[g] >> 2;
-      f += ps[e].force;
-      t += ps[e].moment_axis;
-    }
-    fout[i] = f;
-    tout[i] = t;
-  };
-  // An edge particle whose terms from other runs come last in list order
-  // (SplitSums::edge_tails): the pair loop's sum plus its slots from the
-  // first of them, as gather_spheroid's last loop adds them.
-  const auto tail_spheroid = [&](const SplitSums::Tail& x) {
-    const std::int32_t i = x.particle;
-    Vec3 f = fout[i], t = tout[i];
-    for (std::int32_t g = x.slot; g < goff[i + 1]; ++g) {
-      const std::int32_t e = gcode[g] >> 2;
-      f += ps[e].force;
-      t += ps[e].moment_axis;
-    }
-    fout[i] = f;
-    tout[i] = t;
-  };
-  const auto tail_sphere = [&](const SplitSums::Tail& x) {
-    const std::int32_t i = x.particle;
-    const double ri = rad[i];
-    Vec3 f = fout[i], t = tout[i];
-    for (std::int32_t g = x.slot; g < goff[i + 1]; ++g) {
-      const PairState& s = ps[gcode[g] >> 2];
-      f += s.force;
-      t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
-    }
-    fout[i] = f;
-    tout[i] = t;
+    finish_spheroid(i, g, f, t);  // owners stored after i
   };
   SplitSums* split = &split_;
-  // Thread t's tails (SplitSums::edge_tails), the pair states of the
-  // particles kPrefetchParticles ahead prefetched.
-  const auto add_tails = [&](int t, const auto& tail) {
+  // Thread t's tails (SplitSums::edge_tails: the pair loop's sum plus the
+  // slots from the first owned in a higher run), the pair states of the
+  // particles kPrefetchParticles ahead prefetched; `finish`: finish_sphere
+  // or finish_spheroid.
+  const auto add_tails = [&](int t, const auto& finish) {
     const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
     const std::size_t nt = tails.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
     for (std::size_t k = 0; k < nt; ++k) {
@@ -199,7 +186,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const SplitSums::Tail& a = tails[k + ahead];
         for (std::int32_t g = a.slot; g < goff[a.particle + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
       }
-      tail(tails[k]);
+      const std::int32_t i = tails[k].particle;
+      finish(i, tails[k].slot, fout[i], tout[i]);
     }
   };
   ThreadRuns* runs = &runs_;
@@ -288,7 +276,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const std::vector<std::int32_t>& edge = split->edge_particles(t);
         const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
         for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
-        add_tails(t, tail_spheroid);
+        add_tails(t, finish_spheroid);
         const double summed = omp_get_wtime() - summing;
         runs->record(t, prepared + paired);
         phases->add(t, PhaseTimes::Prepare, prepared);
@@ -320,7 +308,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         const double t4 = omp_get_wtime();
 #pragma omp barrier
         const double t5 = omp_get_wtime();
-        add_tails(t, tail_sphere);
+        add_tails(t, finish_sphere);
         const double t6 = omp_get_wtime();
         runs->record(t, t4 - start);
         phases->add(t, PhaseTimes::Prepare, t1 - start);

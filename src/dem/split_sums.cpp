@@ -1,6 +1,7 @@
 #include "virtual_triaxial/dem/split_sums.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "virtual_triaxial/dem/chunked.h"
 
@@ -44,54 +45,44 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     // before_ filled run by run of the owner: entry order too, since runs
     // are ranges of owners
     ghosts_ = static_cast<std::size_t>(slot);
-    // completions after the barrier: edge particles (spheroid lists; the
-    // sphere path has ghosts) and tails, per run, then shared by slots read
-    edge_.assign(t_count, {});
-    tail_.assign(t_count, {});
+    // completions after the barrier, in particle order (so a thread's share
+    // is mostly its own run, whose sums it integrates next): the partners
+    // of pairs owned in other runs, flagged 1 (some owned in a lower run)
+    // and 2 (some in a higher run)
+    std::vector<std::uint8_t> from(n, 0);
+    for (std::size_t t = 0; t < t_count; ++t) {
+      for (const Ghost& x : before_[t]) from[static_cast<std::size_t>(partner[static_cast<std::size_t>(x.entry)])] |= 1;
+      for (const Ghost& x : after_[t]) from[static_cast<std::size_t>(partner[static_cast<std::size_t>(x.entry)])] |= 2;
+    }
     const std::int32_t* goff = list.gather_offsets().data();
     const std::int32_t* gcode = list.gather_codes().data();
-    const auto partners_of = [&](const std::vector<Ghost>& ghosts) {
-      std::vector<std::int32_t> p;
-      for (const Ghost& x : ghosts) p.push_back(partner[static_cast<std::size_t>(x.entry)]);
-      std::sort(p.begin(), p.end());
-      p.erase(std::unique(p.begin(), p.end()), p.end());
-      return p;
-    };
-    std::vector<std::vector<std::int32_t>> edge_run(t_count);
-    std::vector<std::vector<Tail>> tail_run(t_count);
-    std::int64_t total = 0;  // slots read by all completions
-    for (std::size_t t = 0; t < t_count; ++t) {
-      if (list.has_spheroids()) edge_run[t] = partners_of(before_[t]);
-      for (const std::int32_t j : edge_run[t]) total += goff[j + 1] - goff[j];
-      for (const std::int32_t j : partners_of(after_[t])) {
-        if (std::binary_search(edge_run[t].begin(), edge_run[t].end(), j)) continue;
+    std::vector<Tail> items;  // slot -1: an edge particle, gathered again from its first slot
+    std::int64_t total = 0;   // slots read by all completions
+    for (std::int32_t j = 0; j < static_cast<std::int32_t>(n); ++j) {
+      const std::uint8_t f = from[static_cast<std::size_t>(j)];
+      if ((f & 1) != 0 && list.has_spheroids()) {
+        items.push_back({j, -1});
+        total += goff[j + 1] - goff[j];
+      } else if ((f & 2) != 0) {
         std::int32_t g = goff[j];  // the first slot owned in a higher run (one exists)
-        while ((gcode[g] & 2) != 0 || run_of(owners[static_cast<std::size_t>(gcode[g] >> 2)]) <= static_cast<int>(t))
-          ++g;
-        tail_run[t].push_back({j, g});
+        while ((gcode[g] & 2) != 0 || run_of(owners[static_cast<std::size_t>(gcode[g] >> 2)]) <= run_of(j)) ++g;
+        items.push_back({j, g});
         total += goff[j + 1] - g;
       }
     }
-    // thread shares: the completions in particle order (so mostly of the
-    // thread's own run, whose sums it integrates next), cut into
-    // consecutive parts by the slots read before them
+    // thread shares: consecutive items, cut by the slots read before them
+    edge_.assign(t_count, {});
+    tail_.assign(t_count, {});
     std::int64_t done = 0;
-    const auto share = [&](std::int64_t cost) {
-      const auto s = static_cast<std::size_t>(done * static_cast<std::int64_t>(t_count) / std::max<std::int64_t>(total, 1));
-      done += cost;
-      return std::min(s, t_count - 1);
-    };
-    for (std::size_t t = 0; t < t_count; ++t) {
-      auto edge = edge_run[t].begin();
-      auto tail = tail_run[t].begin();
-      while (edge != edge_run[t].end() || tail != tail_run[t].end()) {
-        if (tail == tail_run[t].end() || (edge != edge_run[t].end() && *edge < tail->particle)) {
-          edge_[share(goff[*edge + 1] - goff[*edge])].push_back(*edge);
-          ++edge;
-        } else {
-          tail_[share(goff[tail->particle + 1] - tail->slot)].push_back(*tail);
-          ++tail;
-        }
+    for (const Tail& x : items) {
+      const auto share = std::min<std::size_t>(
+          t_count - 1, static_cast<std::size_t>(done * static_cast<std::int64_t>(t_count) / std::max<std::int64_t>(total, 1)));
+      const bool edge = x.slot < 0;
+      done += goff[x.particle + 1] - (edge ? goff[x.particle] : x.slot);
+      if (edge) {
+        edge_[share].push_back(x.particle);
+      } else {
+        tail_[share].push_back(x);
       }
     }
     for (std::vector<Vec3>& s : spring_) s.assign(ghosts_, Vec3{});
