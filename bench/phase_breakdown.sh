@@ -13,12 +13,9 @@
 #   bench/phase_breakdown.sh 4 5x5x4 400             # 100 000
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-[[ $# -ge 3 ]] || { sed -n '2,13p' "$0" >&2; exit 2; }
-R=$1; TILE=$2; STEPS=$3; SAMPLE=${4:-config/samples/dense_1000.h5}
-BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
-[[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "phase_breakdown: ROUNDS must be a whole number >= 1" >&2; exit 2; }
-[[ "${STEPS}" =~ ^[1-9][0-9]*$ ]] || { echo "phase_breakdown: STEPS must be a whole number >= 1" >&2; exit 2; }
-[[ -x "${BIN}" ]] || { echo "phase_breakdown: ${BIN} not built" >&2; exit 2; }
+# shellcheck source=tile_rounds.sh
+source bench/tile_rounds.sh
+tile_rounds phase_breakdown "$@"
 # shellcheck source=median.sh
 source bench/median.sh
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT

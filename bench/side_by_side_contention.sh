@@ -13,11 +13,9 @@
 #   bench/side_by_side_contention.sh 6 3x2x2 3000
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-[[ $# -ge 3 ]] || { sed -n '2,13p' "$0" >&2; exit 2; }
-R=$1; TILE=$2; STEPS=$3; SAMPLE=${4:-config/samples/dense_1000.h5}
-BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
-[[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "side_by_side_contention: ROUNDS must be a whole number >= 1" >&2; exit 2; }
-[[ -x "${BIN}" ]] || { echo "side_by_side_contention: ${BIN} not built" >&2; exit 2; }
+# shellcheck source=tile_rounds.sh
+source bench/tile_rounds.sh
+tile_rounds side_by_side_contention "$@"
 command -v taskset >/dev/null || { echo "side_by_side_contention: taskset missing (util-linux)" >&2; exit 2; }
 (($(nproc) >= 2)) || { echo "side_by_side_contention: needs 2 CPUs" >&2; exit 2; }
 run() { taskset -c "$1" "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads 1 --steps "${STEPS}" 2>/dev/null | awk -F': ' '$1 == "us_per_particle_step" { print $2 }'; }
