@@ -5,7 +5,7 @@
 # together / alone per CPU. The two runs share nothing but the machine
 # (caches, memory bandwidth, the host), so a ratio above 1 is what two
 # threads of one run lose to that sharing before any cost of their own
-# (barriers, ghosts, imbalance). The two runs start together, but their
+# (barriers, completions, imbalance). The two runs start together, but their
 # untimed set-ups (loading and tiling the sample) may end apart, so the
 # timed windows can overlap by less than the whole.
 #

@@ -174,18 +174,26 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     finish_spheroid(i, g, f, t);  // owners stored after i
   };
   SplitSums* split = &split_;
-  // Thread t's tails (SplitSums::edge_tails: the pair loop's sum plus the
-  // slots from the first owned in a higher run), the pair states of the
-  // particles kPrefetchParticles ahead prefetched; `finish`: finish_sphere
-  // or finish_spheroid.
-  const auto add_tails = [&](int t, const auto& finish) {
+  // Thread t's completions after the barrier (split_sums.h), the pair
+  // states of the particles kPrefetchParticles ahead prefetched: its edge
+  // particles gathered again (`gather`: finish_sphere, or gather_spheroid's
+  // lists), then its tails, the pair loop's sum plus the slots from the
+  // first owned in a higher run (`finish`: finish_sphere or finish_spheroid).
+  const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
+    for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
+  };
+  const auto complete = [&](int t, const auto& gather, const auto& finish) {
+    const std::size_t ahead = static_cast<std::size_t>(kPrefetchParticles);
+    const std::vector<std::int32_t>& edge = split->edge_particles(t);
+    const std::size_t ne = edge.size();
+    for (std::size_t k = 0; k < ne; ++k) {
+      if (k + ahead < ne) prefetch_slots(edge[k + ahead], goff[edge[k + ahead]]);
+      gather(edge[k]);
+    }
     const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
-    const std::size_t nt = tails.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
+    const std::size_t nt = tails.size();
     for (std::size_t k = 0; k < nt; ++k) {
-      if (k + ahead < nt) {
-        const SplitSums::Tail& a = tails[k + ahead];
-        for (std::int32_t g = a.slot; g < goff[a.particle + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
-      }
+      if (k + ahead < nt) prefetch_slots(tails[k + ahead].particle, tails[k + ahead].slot);
       const std::int32_t i = tails[k].particle;
       finish(i, tails[k].slot, fout[i], tout[i]);
     }
@@ -194,18 +202,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // The plan is checked before the team forms, so that every thread takes
   // the same path (a team smaller than planned remakes it).
   const int planned_team = omp_get_max_threads();
-  const std::int64_t stamp = ++steps_;
-  const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_, stamp);
-  bool plan_used = false;  // set by a team of several (both paths)
-  const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
+  const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_);
+  bool plan_used = false;  // set by a team of several
   const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
   // in list order (or the gather after it). Several (split_sums.h): each
-  // thread's pair loop sums its run's particles (spheres: after the ghosts
-  // of lower runs), barrier, then the particles with terms of pairs owned
-  // in other runs are completed, shared among the threads: spheroids'
-  // edge particles gathered again, tails added.
+  // thread's pair loop sums its run's particles, barrier, then the
+  // particles with terms of pairs owned in other runs are completed,
+  // shared among the threads: edge particles gathered again, tails added.
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -217,7 +222,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       sums[c] = k(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
                   mine.dist2.data());
     };
-    const auto evaluate_chunk = [&](std::int32_t c) { evaluate_chunk_with(kernel, in, c); };
     if (team == 1) {
       // One thread, chunks in ascending order: the pair loop visits every
       // pair in list order, the order of the per-particle sums (scatter),
@@ -225,7 +229,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const double t0 = omp_get_wtime();
       if (spheroids) refresh_bodies(0, ni);
       const double t1 = omp_get_wtime();
-      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(c);
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk_with(kernel, in, c);
       const double t2 = omp_get_wtime();
       if (!scatter)
         for (std::int32_t i = 0; i < ni; ++i)
@@ -244,7 +248,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
         {
           const double planning = omp_get_wtime();
           runs->prepare(nchunks, n, team);
-          split->prepare(list, n, *runs, stamp);
+          split->prepare(list, n, *runs);
           phases->add(omp_get_thread_num(), PhaseTimes::Prepare, omp_get_wtime() - planning);
         }
         // (implicit barrier: the plan is ready)
@@ -252,75 +256,41 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const int t = omp_get_thread_num();
       if (t == 0) plan_used = true;
       const auto [c0, c1] = runs->run(t);
-      double start = omp_get_wtime();
+      const double start = omp_get_wtime();
+      // home: particles [i0, i1); the pair loop sums them as on one
+      // thread, and those with a pair crossing runs are completed once
+      // every run's pairs are in
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
+      if (spheroids) refresh_bodies(i0, i1);
+      std::fill(fout + i0, fout + i1, Vec3{});
+      std::fill(tout + i0, tout + i1, Vec3{});
+      const double prepared = omp_get_wtime() - start;
       if (spheroids) {
-        // home: particles [i0, i1); the pair loop sums them as on one
-        // thread, and those with a pair crossing runs are completed once
-        // every run's pairs are in (edge_particles, edge_tails)
-        refresh_bodies(i0, i1);
-        std::fill(fout + i0, fout + i1, Vec3{});
-        std::fill(tout + i0, tout + i1, Vec3{});
-        const double prepared = omp_get_wtime() - start;
 #pragma omp barrier
-        start = omp_get_wtime();
-        PairInputs own = in;
-        own.force_out = fout;
-        own.torque_out = tout;
-        own.own_begin = i0;
-        own.own_span = static_cast<std::uint32_t>(i1 - i0);
-        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(kernel, own, c);
-        const double paired = omp_get_wtime() - start;
-#pragma omp barrier
-        const double summing = omp_get_wtime();
-        const std::vector<std::int32_t>& edge = split->edge_particles(t);
-        const std::size_t ne = edge.size(), ahead = static_cast<std::size_t>(kPrefetchParticles);
-        for (std::size_t k = 0; k < ne; ++k) gather_spheroid(edge[k], k + ahead < ne ? edge[k + ahead] : ni);
-        add_tails(t, finish_spheroid);
-        const double summed = omp_get_wtime() - summing;
-        runs->record(t, prepared + paired);
-        phases->add(t, PhaseTimes::Prepare, prepared);
-        phases->add(t, PhaseTimes::Pairs, paired);
-        phases->add(t, PhaseTimes::Sums, summed);
-      } else {
-        // home: particles [i0, i1); ghosts of lower runs, own chunks,
-        // barrier, then the share of tails (terms of higher runs)
-        std::fill(fout + i0, fout + i1, Vec3{});
-        std::fill(tout + i0, tout + i1, Vec3{});
-        const double t1 = omp_get_wtime();
-        PairInputs own = in;
-        own.force_out = fout;
-        own.torque_out = tout;
-        own.own_begin = i0;
-        own.own_span = static_cast<std::uint32_t>(i1 - i0);
-        const auto ghosts = [&](const std::vector<SplitSums::Ghost>& list_of) {
-          mine.reserve(list_of.size());
-          ghost_kernel(own, list_of.data(), static_cast<std::int32_t>(list_of.size()), split->ghost_springs(),
-                       mine.entry.data(), mine.branch.data(), mine.dist2.data());
-        };
-        ghosts(split->ghosts_before(t));
-        const double t2 = omp_get_wtime();
-        for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(split_kernel, own, c);
-        const double t3 = omp_get_wtime();
-        // the springs of this run's boundary entries, for the next step's ghosts
-        Vec3* next = split->next_ghost_springs() + split->boundary_slot(t);
-        for (const std::int32_t e : split->boundary(t)) *next++ = in.spring[e];
-        const double t4 = omp_get_wtime();
-#pragma omp barrier
-        const double t5 = omp_get_wtime();
-        add_tails(t, finish_sphere);
-        const double t6 = omp_get_wtime();
-        runs->record(t, t4 - start);
-        phases->add(t, PhaseTimes::Prepare, t1 - start);
-        phases->add(t, PhaseTimes::Ghosts, t2 - t1);
-        phases->add(t, PhaseTimes::Pairs, t3 - t2);
-        phases->add(t, PhaseTimes::Sums, (t4 - t3) + (t6 - t5));
+        // (every run's support data is ready for its partners)
       }
+      const double pairs_start = omp_get_wtime();
+      PairInputs own = in;
+      own.force_out = fout;
+      own.torque_out = tout;
+      own.own_begin = i0;
+      own.own_span = static_cast<std::uint32_t>(i1 - i0);
+      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(spheroids ? kernel : split_kernel, own, c);
+      const double paired = omp_get_wtime() - pairs_start;
+#pragma omp barrier
+      const double summing = omp_get_wtime();
+      if (spheroids)
+        complete(t, [&](std::int32_t i) { gather_spheroid(i, ni); }, finish_spheroid);
+      else
+        complete(t, [&](std::int32_t i) { finish_sphere(i, goff[i], Vec3{}, Vec3{}); }, finish_sphere);
+      runs->record(t, prepared + paired);
+      phases->add(t, PhaseTimes::Prepare, prepared);
+      phases->add(t, PhaseTimes::Pairs, paired);
+      phases->add(t, PhaseTimes::Sums, omp_get_wtime() - summing);
     }
   }
   phases_.add_region(PhaseTimes::ForceRegion, omp_get_wtime() - region_start);
-  if (plan_used) split_.finish_step(stamp);
-  split_used_ = plan_used && !spheroids;
+  split_used_ = plan_used;
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);

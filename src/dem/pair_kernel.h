@@ -11,7 +11,6 @@
 #include <cstdint>
 
 #include "virtual_triaxial/dem/contact_forces.h"
-#include "virtual_triaxial/dem/split_sums.h"
 
 namespace vt::dem::pairs {
 
@@ -67,9 +66,8 @@ struct PairInputs {
   double viscous_a;
   // Several threads (the sphere split kernel, sphere_pair_kernel, and the
   // spheroid kernel): partners outside particles [own_begin, own_begin +
-  // own_span) take no sum here (their thread adds the pair: spheres of a
-  // higher run as a ghost, the rest after the pair loops' barrier, from the
-  // pair state, split_sums.h).
+  // own_span) take no sum here (their sums are completed after the pair
+  // loops' barrier, from the pair states, split_sums.h).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
   /// Whether particle j is summed here (in [own_begin, own_begin + own_span)).
@@ -98,8 +96,7 @@ inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& l
 
 /// Lane k of a kernel's lanes (fields rv*, wi*, wj*, s*, mi, mj): the motion
 /// of a pair (owner i, partner j), v_j - v_i, both spins and its spring sp
-/// (the list's in.spring[e], or a ghost's copy); the masses for the viscous
-/// dashpots.
+/// (the list's in.spring[e]); the masses for the viscous dashpots.
 template <bool Viscous, class Lanes>
 inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, const Vec3& sp) {
   const Vec3 rv = in.vel[j] - in.vel[i];
@@ -165,16 +162,6 @@ using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t
 /// own_span (several threads), else every partner is summed.
 PairKernel sphere_pair_kernel(bool measure, bool viscous, bool split);
 
-/// A ghost kernel (spheres, split_sums.h): the pairs of the listed ghosts
-/// (ascending entries, owned by particles of other threads) evaluated from
-/// the same inputs as their owner's pair loop, with the springs at the
-/// start of the step from `springs` (by ghost slot; in.spring is not read),
-/// added in list order to the partner's sums only; nothing is stored in the
-/// list and nothing enters the chunk sums. The last three arguments are
-/// per-thread scratch (ContactForces::Scratch).
-using GhostKernel = void (*)(const PairInputs&, const SplitSums::Ghost*, std::int32_t, const Vec3*, std::int32_t*,
-                             Vec3*, double*);
-GhostKernel sphere_ghost_kernel(bool viscous);
 /// Kernel for particles that include spheroids (spheroid_pairs.cpp).
 PairKernel spheroid_pair_kernel(bool measure, bool viscous);
 

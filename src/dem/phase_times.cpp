@@ -63,7 +63,6 @@ const char* PhaseTimes::name(Phase p) {
   switch (p) {
     case Prepare: return "prepare";
     case Pairs: return "pairs";
-    case Ghosts: return "ghosts";
     case Sums: return "sums";
     case Integrate: return "integrate";
     case kPhaseCount: break;

@@ -30,10 +30,10 @@ struct SphereLanes {
   std::int32_t sliding[kLanes];
 };
 
-/// The contact of every lane (formulas in contact_forces.h). Not inlined:
-/// the owner's pair loop and the ghosts call this one code, so a ghost's
-/// force and moment are its owner's bit for bit whatever the compiler fuses
-/// around each call.
+/// The contact of every lane (formulas in contact_forces.h). Not inlined,
+/// so which multiply-adds the compiler fuses here does not depend on the
+/// code around each call (the four instantiations of evaluate_pairs give
+/// the same bits).
 template <bool Viscous>
 __attribute__((noinline)) void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
                                  double viscous_a) {
@@ -70,7 +70,7 @@ __attribute__((noinline)) void sphere_contact_lanes(SphereLanes& L, const Mat3& 
 }
 
 /// Whether the pair of entry e touches: branch d = x_j - x_i (minimum
-/// image) and |d|^2 (both kernels below, so a ghost sees its owner's bits).
+/// image) and |d|^2.
 inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Vec3& d, double& dist2) {
   const std::int32_t i = in.owner[e];
   const std::int32_t j = in.partner[e];
@@ -81,7 +81,7 @@ inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Ve
 }
 
 /// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2, spring
-/// sp), its radii and motion (both kernels below).
+/// sp), its radii and motion.
 template <bool Viscous>
 inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2,
                      const Vec3& sp) {
@@ -180,8 +180,8 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       if (in.force_out) {  // the gather's arithmetic, in the gather's order
         in.force_out[i] -= f;
         in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
-        // a partner of another thread: added there as a ghost (a higher run)
-        // or by a tail from the pair state (a lower run; split_sums.h)
+        // a partner of another thread's run: completed after the pair
+        // loops, from the pair states (split_sums.h)
         const bool home = !Split || in.home(j);
         Vec3& fj = home ? in.force_out[j] : sink_f;
         Vec3& tj = home ? in.torque_out[j] : sink_t;
@@ -195,48 +195,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   return sums.finish(nc);
 }
 
-/// The ghost kernel (pair_kernel.h): ghosts[0, count), ascending entries.
-/// The same contact test, lane set-up and lane code as evaluate_pairs, so
-/// each pair's force and moment are the owner's bit for bit. c_entry holds
-/// the touching ghosts' indices in `ghosts`.
-template <bool Viscous>
-void evaluate_ghosts(const PairInputs& in, const SplitSums::Ghost* ghosts, std::int32_t count, const Vec3* springs,
-                     std::int32_t* c_entry, Vec3* c_branch, double* c_dist2) {
-  const Mat3 h = in.h, lgrad = in.lgrad;
-  const HertzMindlin law = in.law;
-  const double dt = in.dt;
-  std::int32_t nc = 0;
-  for (std::int32_t k = 0; k < count; ++k) {
-    Vec3 d;
-    double dist2;
-    const bool touching = contact_test(in, h, ghosts[k].entry, d, dist2);
-    c_entry[nc] = k;
-    store(c_branch[nc], d);
-    c_dist2[nc] = dist2;
-    nc += touching ? 1 : 0;
-  }
-  SphereLanes L;
-  std::int32_t lane_j[kLanes];
-  for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
-    const int lanes = static_cast<int>(std::min<std::int32_t>(kLanes, nc - c0));
-    for (int k = 0; k < kLanes; ++k) {
-      const std::int32_t c = c0 + (k < lanes ? k : 0);
-      const SplitSums::Ghost& g = ghosts[c_entry[c]];
-      lane_j[k] = in.partner[g.entry];
-      set_lane<Viscous>(L, k, in, g.entry, c_branch[c], c_dist2[c], springs[g.slot]);
-    }
-    sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
-    for (int k = 0; k < lanes; ++k) {
-      const std::int32_t j = lane_j[k];
-      in.force_out[j] += Vec3{L.fx[k], L.fy[k], L.fz[k]};
-      in.torque_out[j] = fused_multiply_add(L.lj[k], Vec3{L.mx[k], L.my[k], L.mz[k]}, in.torque_out[j]);
-    }
-  }
-}
-
 }  // namespace
-
-GhostKernel sphere_ghost_kernel(bool viscous) { return viscous ? &evaluate_ghosts<true> : &evaluate_ghosts<false>; }
 
 PairKernel sphere_pair_kernel(bool measure, bool viscous, bool split) {
   if (split) {

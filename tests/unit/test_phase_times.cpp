@@ -9,9 +9,8 @@
 //     sums too, no thread's phases exceed the regions that hold them
 //     (waits >= 0: the regions are timed around the team, the phases inside
 //     it, with the same clock), the team's mean waits are imbalance +
-//     overhead, ghosts are timed on every thread but the first of the
-//     sphere path on two threads and never otherwise, and
-//     reset_phase_times() starts from zero.
+//     overhead, every thread of two has completions to make (edge
+//     particles and tails), and reset_phase_times() starts from zero.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -33,7 +32,7 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   pt.add(0, PhaseTimes::Pairs, 1.5);
   pt.add(0, PhaseTimes::Integrate, 0.25);
   pt.add(0, PhaseTimes::Pairs, 0.5);
-  pt.add(1, PhaseTimes::Ghosts, 0.125);
+  pt.add(1, PhaseTimes::Sums, 0.125);
   pt.add_region(PhaseTimes::ForceRegion, 2.5);
   pt.add_region(PhaseTimes::IntegrationRegion, 0.5);
   EXPECT_EQ(pt.seconds(0, PhaseTimes::Pairs), 2.0);
@@ -49,7 +48,7 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   EXPECT_EQ(pt.busy(0), 0.0);
   EXPECT_EQ(pt.region(PhaseTimes::ForceRegion), 0.0);
   EXPECT_EQ(pt.threads(), 2);
-  EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Ghosts), "ghosts");
+  EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Sums), "sums");
   EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Integrate), "integrate");
 }
 
@@ -58,7 +57,7 @@ TEST(PhaseTimes, WaitsSplitIntoImbalanceSteadyPartAndOverhead) {
   pt.ensure_threads(3);  // thread 2 never in a team
   // force region, step 1: thread 0 busy 3, thread 1 busy 1, wall 3.5
   pt.add(0, PhaseTimes::Pairs, 2.0);
-  pt.add(0, PhaseTimes::Ghosts, 1.0);
+  pt.add(0, PhaseTimes::Sums, 1.0);
   pt.add(1, PhaseTimes::Pairs, 1.0);
   pt.add_region(PhaseTimes::ForceRegion, 3.5);
   // integration, step 1: 0.5 and 0.5, wall 0.75
@@ -99,10 +98,8 @@ struct RestoreThreads {
 
 /// Steps `start` 5 steps on one thread, 5 on `threads` (the team's plan is
 /// made), resets the timers and steps 20 more; checks the invariants of
-/// the phase times of those 20 steps. `ghosts`: the sphere path on several
-/// threads (each thread evaluates the pairs owned in a lower run with a
-/// partner in its run again).
-void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
+/// the phase times of those 20 steps.
+void check_steps_on(const SimulationState& start, int threads) {
   RestoreThreads restore;
   omp_set_num_threads(1);
   Simulation sim(start);
@@ -123,20 +120,11 @@ void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
     EXPECT_GT(pt.seconds(t, PhaseTimes::Integrate), 0.0) << at;
     EXPECT_GE(pt.waits(t), 0.0) << at << ": phases outside their regions";
     EXPECT_LE(pt.seconds(t, PhaseTimes::Integrate), pt.region(PhaseTimes::IntegrationRegion)) << at;
-    if (threads == 1) {
-      EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
-    } else {
-      // every thread zeroes its own sums and ends with its own sums pass
-      // (its boundary springs, its share of the completions)
+    if (threads > 1) {
+      // every thread zeroes its own sums and ends with its share of the
+      // completions
       EXPECT_GT(pt.seconds(t, PhaseTimes::Prepare), 0.0) << at;
       EXPECT_GT(pt.seconds(t, PhaseTimes::Sums), 0.0) << at;
-      if (ghosts) {  // the ghosts of lower runs: every thread but the first
-        if (t > 0) {
-          EXPECT_GT(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
-        }
-      } else {
-        EXPECT_EQ(pt.seconds(t, PhaseTimes::Ghosts), 0.0) << at;
-      }
     }
   }
   // the team's mean waits split into imbalance and overhead, step by step
@@ -150,11 +138,10 @@ void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
     split += pt.imbalance(r) + pt.overhead(r);
   }
   EXPECT_NEAR(mean_waits, split, 1e-9) << threads << " threads";
+  EXPECT_EQ(sim.split_used(), threads > 1);
   if (threads > 1) {
-    EXPECT_EQ(sim.split_used(), ghosts);
-    if (ghosts) {
-      EXPECT_GT(sim.split_ghosts(), 0u);
-    }
+    EXPECT_GT(sim.split_edges(), 0u);
+    EXPECT_GT(sim.split_tails(), 0u);
   }
 }
 
@@ -163,14 +150,14 @@ void check_steps_on(const SimulationState& start, int threads, bool ghosts) {
 TEST(PhaseTimes, EveryThreadTimesItsPairLoopAndIntegrationInsideTheRegions) {
   // 1600 spheres, sorted in space: 4 chunks, pairs crossing two threads' runs
   const SimulationState spheres = vt::test::spatially_sorted(vt::test::loaded_packing(1600));
-  check_steps_on(spheres, 1, false);
-  check_steps_on(spheres, 2, true);
+  check_steps_on(spheres, 1);
+  check_steps_on(spheres, 2);
 }
 
 TEST(PhaseTimes, SpheroidThreadsTimeTheirPairLoopsAndEdgeGathers) {
   // 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
   const SimulationState spheroids =
       vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2));
-  check_steps_on(spheroids, 1, false);
-  check_steps_on(spheroids, 2, false);
+  check_steps_on(spheroids, 1);
+  check_steps_on(spheroids, 2);
 }

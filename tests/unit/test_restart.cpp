@@ -68,9 +68,10 @@ TEST(Restart, ResultIsIndependentOfThreadCount) {
 
 // One thread may sum each particle's forces inside the pair loop; more
 // threads evaluate runs of 512-particle chunks in parallel, each summing its
-// own particles, evaluate the pairs owned in a lower run again as ghosts and,
-// after a barrier, add the terms of pairs owned in a higher run from their
-// pair states (tails). Both add the same terms in the same (list) order, so over a sample of
+// own particles, and after a barrier gather the partners of pairs owned in
+// a lower run again (edge particles) and add the terms of pairs owned in a
+// higher run to the others from their pair states (tails). Both add the
+// same terms in the same (list) order, so over a sample of
 // several chunks, where pairs cross chunk boundaries both ways, the runs
 // agree bit for bit. Spatially sorted storage (ids no longer in storage
 // order), so that particles also have entries of owners stored after them.
@@ -93,24 +94,25 @@ TEST(Restart, PairLoopSumsEqualTheGatherAcrossChunks) {
   Simulation two(start);
   ASSERT_EQ(two.run(400), 400) << two.failure();
   // Several threads: every particle summed by its thread's pair loop, the
-  // pairs owned in a lower run evaluated again as ghosts, the terms of
-  // pairs owned in a higher run added as tails (split_sums.h); they occur
-  // here.
-  EXPECT_GT(two.split_ghosts(), 0u);
-  EXPECT_LT(two.split_ghosts(), two.neighbor_list().pairs().size() / 4) << "most pairs are evaluated once";
+  // partners of pairs crossing runs completed after it: edge particles
+  // and tails (split_sums.h); both occur here.
+  EXPECT_GT(two.split_edges(), 0u);
+  EXPECT_GT(two.split_tails(), 0u);
+  EXPECT_LT(two.split_edges() + two.split_tails(), start.particles.size() / 2) << "most particles need no completion";
   omp_set_num_threads(3);
   Simulation three(start);
   ASSERT_EQ(three.run(400), 400) << three.failure();
-  EXPECT_GT(three.split_ghosts(), two.split_ghosts()) << "three runs have more ends than two";
+  EXPECT_GT(three.split_edges() + three.split_tails(), two.split_edges() + two.split_tails())
+      << "three runs have more ends than two";
   omp_set_num_threads(omp_get_num_procs());
   expect_same_state(one.state(), two.state());
   expect_same_state(one.state(), three.state());
   EXPECT_FALSE(same_bits(start.particles.omega, one.state().particles.omega));
 }
 
-// The ghosts' kernel with the contact dashpots (viscous damping): two and
-// three threads give the one-thread bits.
-TEST(Restart, GhostsWithContactDashpotsGiveTheOneThreadBits) {
+// The split sphere kernel with the contact dashpots (viscous damping): two
+// and three threads give the one-thread bits.
+TEST(Restart, SplitSumsWithContactDashpotsGiveTheOneThreadBits) {
   SimulationState start = vt::test::spatially_sorted(loaded_packing(1600));
   start.settings.damping = MassDamping(DampingModel::Viscous, 0.5);
   omp_set_num_threads(1);
@@ -121,23 +123,22 @@ TEST(Restart, GhostsWithContactDashpotsGiveTheOneThreadBits) {
     Simulation more(start);
     ASSERT_EQ(more.run(300), 300) << more.failure();
     EXPECT_TRUE(more.split_used());
-    EXPECT_GT(more.split_ghosts(), 0u);
+    EXPECT_GT(more.split_edges(), 0u);
     expect_same_state(one.state(), more.state());
   }
   omp_set_num_threads(omp_get_num_procs());
 }
 
-// Thread counts switched mid-run (as the run-time governor does): the ghost
-// springs are refilled after steps taken without them, and the run is the
-// one-thread run bit for bit.
+// Thread counts switched mid-run (as the run-time governor does): the plan
+// is remade or kept as the count changes, and the run is the one-thread run
+// bit for bit.
 TEST(Restart, SwitchingThreadCountsMidRunKeepsTheBits) {
   const SimulationState start = vt::test::spatially_sorted(loaded_packing(1600));
   omp_set_num_threads(1);
   Simulation one(start);
   ASSERT_EQ(one.run(350), 350) << one.failure();
   Simulation switched(start);
-  // back to the same count after one-thread steps: the same runs and plan,
-  // but springs the ghost buffers have not seen
+  // back to the same count after one-thread steps: the same runs and plan
   for (int threads : {2, 1, 2, 3, 1, 3, 2}) {
     omp_set_num_threads(threads);
     ASSERT_EQ(switched.run(50), 50) << switched.failure();

@@ -110,7 +110,7 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
     ThreadRuns runs;
     runs.prepare(chunk_count(n), n, threads);
     SplitSums plan;
-    plan.prepare(list, n, runs, 1);
+    plan.prepare(list, n, runs);
     std::vector<int> run_of(n);
     for (int t = 0; t < threads; ++t)
       for (std::int32_t c = runs.run(t).first; c < runs.run(t).second; ++c)

@@ -16,11 +16,10 @@
 //     ask for the gather below instead, for A/B);
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
 //     by measured speed) and sums its run's particles in its own pair loop;
-//     a sphere pair owned in a lower run is evaluated again, as a ghost, by
-//     its partner's thread before its own chunks, and after a barrier the
-//     terms of pairs owned in higher runs are added from their pair states
-//     (tails), so that the order stays the list's (split_sums.h); no gather
-//     of every particle.
+//     after a barrier the partners of pairs owned in a lower run are
+//     gathered again and the terms of pairs owned in higher runs are added
+//     from their pair states to the others (tails), so that the order stays
+//     the list's (split_sums.h); no gather of every particle.
 // Same terms, same order, same bits (the torque terms use fused_multiply_add
 // so that compiler contraction cannot differ between them). The sums
 // therefore depend on the storage order (fixed during a run) but not on the
@@ -66,12 +65,10 @@
 // store-forwarding stall). On one thread there is no gather (its scattered
 // reads of other particles' pair states were the step's largest cost growth
 // with N, and it costs 12 % even where they fit the L2 cache); on several
-// threads neither: a pair owned in a lower run is evaluated twice instead
-// (ghosts, split_sums.h; on two threads 6.7-8 % faster than gathering the
-// particles at the runs' ends at 10^5 dense spheres, within 2 % at 12 000),
-// and the terms of pairs owned in higher runs come from their pair states
-// after a barrier (tails; session 20: 0.961 of the time with ghosts for
-// both at 10^5, 0.965 at 12 000).
+// threads only the particles of pairs that cross the runs are completed
+// after a barrier (split_sums.h): the partners of pairs owned in a lower
+// run gathered again, the terms of pairs owned in higher runs added from
+// their pair states (tails).
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -93,6 +90,7 @@
 // again, edge_tails add the terms of higher runs; session 16:
 // gathering every particle was 17 % of a two-thread run's CPU at 12 000
 // spheroids, now 8 %; 0.954x the time, median of 20 interleaved rounds).
+// Spheres take the same completions since session 21.
 #pragma once
 
 #include <cstddef>
@@ -180,11 +178,12 @@ class ContactForces {
   /// several: each thread's pair loop and, after a barrier, the completions
   /// of the sums of particles with pairs crossing runs, split_sums.h).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
-  /// Sphere path on several threads: pairs the last compute() evaluated
-  /// twice, as ghosts (split_sums.h); 0 otherwise.
-  std::size_t split_ghosts() const { return split_used_ ? split_.ghost_count() : 0; }
-  /// Whether the last compute() took the sphere path on several threads
-  /// (each thread's pair loop with ghosts and tails, split_sums.h).
+  /// On several threads: the particles the last compute() gathered again
+  /// (edge particles) and completed with tails (split_sums.h); 0 otherwise.
+  std::size_t split_edges() const { return split_used_ ? split_.edge_count() : 0; }
+  std::size_t split_tails() const { return split_used_ ? split_.tail_count() : 0; }
+  /// Whether the last compute() ran on several threads (each thread's pair
+  /// loop, then the completions, split_sums.h).
   bool split_used() const { return split_used_; }
   /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
@@ -215,11 +214,10 @@ class ContactForces {
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
-  SplitSums split_;                      ///< several threads: ghosts (spheres), edge particles (spheroids), tails
+  SplitSums split_;                      ///< several threads: edge particles and tails
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
-  std::int64_t steps_ = 0;               ///< compute() calls (SplitSums' step stamps)
 };
 
 }  // namespace vt::dem

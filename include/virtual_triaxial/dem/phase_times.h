@@ -17,14 +17,12 @@
 //   Prepare   zeroing the thread's force and torque sums (several threads;
 //             one thread zeroes them before the region, untimed); spheroids:
 //             their support data (SpheroidSupport) for this evaluation; several
-//             threads: the plan of runs and ghosts when it is remade (one
-//             thread makes it while the others wait)
+//             threads: the plan of runs and completions when it is remade
+//             (one thread makes it while the others wait)
 //   Pairs     the thread's own pair loop (its run of chunks)
-//   Ghosts    spheres on several threads: pairs owned in a lower run
-//             evaluated again by the partner's thread (split_sums.h)
-//   Sums      the gather (one thread, gather mode); several threads: the
-//             ghosts' springs for the next step and, after the barrier, the
-//             thread's share of the completions (tails, spheroid edge gathers)
+//   Sums      the gather (one thread, gather mode); several threads: after
+//             the barrier, the thread's share of the completions (edge
+//             gathers and tails, split_sums.h)
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
 // Waits, step by step (add_region, once per region and step, serially):
 // with b_t the busy seconds thread t added since the last add_region (this
@@ -54,7 +52,7 @@ namespace vt::dem {
 
 class PhaseTimes {
  public:
-  enum Phase : int { Prepare = 0, Pairs, Ghosts, Sums, Integrate, kPhaseCount };
+  enum Phase : int { Prepare = 0, Pairs, Sums, Integrate, kPhaseCount };
   enum Region : int { ForceRegion = 0, IntegrationRegion, kRegionCount };
 
   /// Slots for at least `threads` threads (call serially, before a region).
@@ -83,7 +81,7 @@ class PhaseTimes {
   double steady_imbalance(Region r) const;
   /// Sum over steps of region r's wall time less its slowest thread's busy time [s].
   double overhead(Region r) const { return overhead_[r]; }
-  /// "prepare", "pairs", "ghosts", "sums", "integrate".
+  /// "prepare", "pairs", "sums", "integrate".
   static const char* name(Phase p);
 
  private:

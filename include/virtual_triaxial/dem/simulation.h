@@ -133,15 +133,17 @@ class Simulation {
   /// set_pair_loop_sum_threshold); results are bit-identical either way.
   void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
   bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
-  /// Sphere path on several threads, last step: pairs evaluated twice, as
-  /// ghosts by their partner's thread (split_sums.h). 0 on one thread.
-  std::size_t split_ghosts() const { return contact_forces_.split_ghosts(); }
-  /// Whether the last step summed spheres in each thread's pair loop (several threads).
+  /// Several threads, last step: the particles gathered again (edge
+  /// particles) and completed with tails after the pair loops
+  /// (split_sums.h). 0 on one thread.
+  std::size_t split_edges() const { return contact_forces_.split_edges(); }
+  std::size_t split_tails() const { return contact_forces_.split_tails(); }
+  /// Whether the last step summed in each thread's pair loop (several threads).
   bool split_used() const { return contact_forces_.split_used(); }
-  /// Chunks per thread of the sphere path and the integrator (thread_runs.h).
+  /// Chunks per thread of the pair loop and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
   /// Where the steps' time went per thread and phase since the last reset
-  /// (phase_times.h: pair loop, ghosts, sums, integration, barrier waits).
+  /// (phase_times.h: pair loop, sums, integration, barrier waits).
   const PhaseTimes& phase_times() const { return contact_forces_.phase_times(); }
   void reset_phase_times() { contact_forces_.phase_times().reset(); }
 

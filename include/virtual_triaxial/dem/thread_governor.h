@@ -19,8 +19,8 @@
 //   - only regular steps are timed: a step that rebuilt the neighbour list
 //     (record_step(s, false): rebuilds come at irregular intervals and cost
 //     several steps, so a block that happens to hold one looks dearer than
-//     its count is) and the first step after a change of count (it refills
-//     the ghost springs, split_sums.h) are counted but not timed, up to
+//     its count is) and the first step after a change of count (it may
+//     remake the threads' plan, split_sums.h) are counted but not timed, up to
 //     kMaxUntimed min_block_steps per block (a run that rebuilds at every
 //     step is timed as it is). Session 15, a 16 670-step shear of
 //     dense_4000.h5 on two vCPUs whose steps cost 1.11x more on one thread
