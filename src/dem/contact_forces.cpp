@@ -90,9 +90,12 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   Vec3* tout = torque.data();
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
+  // one thread, and a team of several (partners outside the thread's run
+  // not summed: PairInputs::home; the spheroid kernel always tests it)
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, false);
-  const pairs::PairKernel split_kernel = pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, true);
+  const pairs::PairKernel team_kernel =
+      spheroids ? kernel : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, true);
 
   // Gather, per particle, over its gather slots in list order: entries of
   // owners stored before it (force added), its own entries (force
@@ -118,10 +121,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
-  const auto gather_sphere = [&](std::int32_t i) {
-    const std::int32_t ip = std::min(i + kPrefetchParticles, ni);
-    for (std::int32_t k = goff[ip]; k < goff[std::min(ip + 1, ni)]; ++k) __builtin_prefetch(ps + (gcode[k] >> 2));
-    finish_sphere(i, goff[i], Vec3{}, Vec3{});
+  const auto gather_sphere = [&](std::int32_t i) { finish_sphere(i, goff[i], Vec3{}, Vec3{}); };
+  // The pair states of particle i's slots from slot g on, prefetched (the
+  // gathers' callers, kPrefetchParticles particles ahead).
+  const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
+    for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
   };
   // Support data of particles [i0, i1) (symmetry axis e = q (1,0,0)): one
   // rotation per particle instead of one per particle and pair.
@@ -153,11 +157,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
-  // `ahead` in [0, N]: the particle gathered kPrefetchParticles later,
-  // whose pair states are prefetched (N: none).
-  const auto gather_spheroid = [&](std::int32_t i, std::int32_t ahead) {
-    for (std::int32_t k = goff[ahead]; k < goff[std::min(ahead + 1, ni)]; ++k)
-      __builtin_prefetch(ps + (gcode[k] >> 2));
+  const auto gather_spheroid = [&](std::int32_t i) {
     Vec3 f{}, t{};
     std::int32_t g = goff[i];
     const std::int32_t g_end = goff[i + 1];
@@ -176,12 +176,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   SplitSums* split = &split_;
   // Thread t's completions after the barrier (split_sums.h), the pair
   // states of the particles kPrefetchParticles ahead prefetched: its edge
-  // particles gathered again (`gather`: finish_sphere, or gather_spheroid's
-  // lists), then its tails, the pair loop's sum plus the slots from the
-  // first owned in a higher run (`finish`: finish_sphere or finish_spheroid).
-  const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
-    for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
-  };
+  // particles gathered again (`gather`: gather_sphere or gather_spheroid),
+  // then its tails, the pair loop's sum plus the slots from the first owned
+  // in a higher run (`finish`: finish_sphere or finish_spheroid).
   const auto complete = [&](int t, const auto& gather, const auto& finish) {
     const std::size_t ahead = static_cast<std::size_t>(kPrefetchParticles);
     const std::vector<std::int32_t>& edge = split->edge_particles(t);
@@ -232,8 +229,10 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk_with(kernel, in, c);
       const double t2 = omp_get_wtime();
       if (!scatter)
-        for (std::int32_t i = 0; i < ni; ++i)
-          spheroids ? gather_spheroid(i, std::min(i + kPrefetchParticles, ni)) : gather_sphere(i);
+        for (std::int32_t i = 0; i < ni; ++i) {
+          if (i + kPrefetchParticles < ni) prefetch_slots(i + kPrefetchParticles, goff[i + kPrefetchParticles]);
+          spheroids ? gather_spheroid(i) : gather_sphere(i);
+        }
       phases->add(0, PhaseTimes::Prepare, t1 - t0);
       phases->add(0, PhaseTimes::Pairs, t2 - t1);
       phases->add(0, PhaseTimes::Sums, omp_get_wtime() - t2);
@@ -275,14 +274,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       own.torque_out = tout;
       own.own_begin = i0;
       own.own_span = static_cast<std::uint32_t>(i1 - i0);
-      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(spheroids ? kernel : split_kernel, own, c);
+      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(team_kernel, own, c);
       const double paired = omp_get_wtime() - pairs_start;
 #pragma omp barrier
       const double summing = omp_get_wtime();
-      if (spheroids)
-        complete(t, [&](std::int32_t i) { gather_spheroid(i, ni); }, finish_spheroid);
-      else
-        complete(t, [&](std::int32_t i) { finish_sphere(i, goff[i], Vec3{}, Vec3{}); }, finish_sphere);
+      spheroids ? complete(t, gather_spheroid, finish_spheroid) : complete(t, gather_sphere, finish_sphere);
       runs->record(t, prepared + paired);
       phases->add(t, PhaseTimes::Prepare, prepared);
       phases->add(t, PhaseTimes::Pairs, paired);

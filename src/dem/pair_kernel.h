@@ -95,10 +95,11 @@ inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& l
 }
 
 /// Lane k of a kernel's lanes (fields rv*, wi*, wj*, s*, mi, mj): the motion
-/// of a pair (owner i, partner j), v_j - v_i, both spins and its spring sp
-/// (the list's in.spring[e]); the masses for the viscous dashpots.
+/// of the pair of entry e (owner i, partner j), v_j - v_i, both spins and
+/// its spring; the masses for the viscous dashpots.
 template <bool Viscous, class Lanes>
-inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, const Vec3& sp) {
+inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t e, std::int32_t i, std::int32_t j) {
+  const Vec3 sp = in.spring[e];
   const Vec3 rv = in.vel[j] - in.vel[i];
   L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
   const Vec3 wi = in.omg[i], wj = in.omg[j];

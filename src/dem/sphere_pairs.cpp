@@ -32,8 +32,8 @@ struct SphereLanes {
 
 /// The contact of every lane (formulas in contact_forces.h). Not inlined,
 /// so which multiply-adds the compiler fuses here does not depend on the
-/// code around each call (the four instantiations of evaluate_pairs give
-/// the same bits).
+/// code around each call (the instantiations of evaluate_pairs with the
+/// same Viscous give the same bits).
 template <bool Viscous>
 __attribute__((noinline)) void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
                                  double viscous_a) {
@@ -80,18 +80,17 @@ inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Ve
   return dist2 < rsum * rsum;
 }
 
-/// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2, spring
-/// sp), its radii and motion.
+/// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2), its
+/// radii, motion and spring.
 template <bool Viscous>
-inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2,
-                     const Vec3& sp) {
+inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2) {
   const std::int32_t i = in.owner[e];
   const std::int32_t j = in.partner[e];
   L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
   L.dist2[k] = dist2;
   L.ri[k] = in.rad[i];
   L.rj[k] = in.rad[j];
-  set_motion<Viscous>(L, k, in, i, j, sp);
+  set_motion<Viscous>(L, k, in, e, i, j);
 }
 
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
@@ -164,7 +163,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       lane_e[k] = e;
       lane_i[k] = in.owner[e];
       lane_j[k] = in.partner[e];
-      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c], in.spring[e]);
+      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     for (int k = 0; k < lanes; ++k) {

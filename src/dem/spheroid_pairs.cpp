@@ -365,7 +365,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       L.ri[k] = ri.hertz;
       L.rj[k] = rj.hertz;
       L.minor[k] = std::min(ri.minor, rj.minor);
-      set_motion<Viscous>(L, k, in, i, j, in.spring[e]);
+      set_motion<Viscous>(L, k, in, e, i, j);
       if (++nlaw == kLawLanes) run_law();
     }
     if (nlaw > 0) run_law();

@@ -13,6 +13,7 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
   build_ = list.rebuild_count();
   n_ = n;
   runs_version_ = runs.version();
+  threads_ = runs.threads();
   const auto t_count = static_cast<std::size_t>(runs.threads());
   std::vector<int> run_of_chunk(static_cast<std::size_t>(chunk_count(n)));
   for (int t = 0; t < runs.threads(); ++t) {

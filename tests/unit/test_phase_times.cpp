@@ -9,8 +9,8 @@
 //     sums too, no thread's phases exceed the regions that hold them
 //     (waits >= 0: the regions are timed around the team, the phases inside
 //     it, with the same clock), the team's mean waits are imbalance +
-//     overhead, every thread of two has completions to make (edge
-//     particles and tails), and reset_phase_times() starts from zero.
+//     overhead, the sums of two threads are completed (edge particles and
+//     tails occur), and reset_phase_times() starts from zero.
 #include <gtest/gtest.h>
 
 #include <omp.h>

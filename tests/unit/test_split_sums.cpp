@@ -1,9 +1,7 @@
 // SplitSums (dem/split_sums.h): the plan by which several threads make the
 // per-particle sums of the pair loop without a gather of every particle. Its
 // invariants, checked on the neighbour list of a loaded, spatially sorted
-// packing of several chunks (the sums themselves:
-// Restart.PairLoopSumsEqualTheGatherAcrossChunks, bit for bit on one, two
-// and three threads):
+// packing of several chunks:
 //   - the completions after the pair loops: every partner of a pair owned
 //     in another run exactly once, as an edge particle (some pair owned in
 //     a lower run) or a tail starting at its first slot owned in a higher
@@ -11,7 +9,7 @@
 //     slots, with contacts among the crossing pairs of both kinds (the sums
 //     themselves: Restart.PairLoopSumsEqualTheGatherAcrossChunks,
 //     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
-//   - the plan follows the runs.
+//   - the plan follows the runs, N and the list's rebuilds.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -74,8 +72,8 @@ Planned plan_of(const NeighborList& list, std::size_t n, int threads) {
 
 }  // namespace
 
-TEST(SplitSums, ThePlanFollowsTheRuns) {
-  const Simulation sim = sorted_packing();
+TEST(SplitSums, ThePlanFollowsTheRunsAndTheList) {
+  Simulation sim = sorted_packing();
   const NeighborList& list = sim.neighbor_list();
   const std::size_t n = sim.particles().size();
   ThreadRuns runs;
@@ -92,6 +90,15 @@ TEST(SplitSums, ThePlanFollowsTheRuns) {
   plan.prepare(list, n, runs);
   EXPECT_TRUE(plan.current(list, n, runs));
   EXPECT_GT(plan.edge_count() + plan.tail_count(), edges_two + tails_two) << "three runs have more ends than two";
+  // the list rebuilt (the packing shears on): a new plan
+  const std::int64_t builds = list.rebuild_count();
+  omp_set_num_threads(1);
+  for (int k = 0; k < 100 && list.rebuild_count() == builds; ++k) ASSERT_EQ(sim.run(50), 50) << sim.failure();
+  omp_set_num_threads(omp_get_num_procs());
+  ASSERT_GT(list.rebuild_count(), builds) << "the test needs a rebuild";
+  EXPECT_FALSE(plan.current(list, n, runs));
+  plan.prepare(list, n, runs);
+  EXPECT_TRUE(plan.current(list, n, runs));
 }
 
 namespace {

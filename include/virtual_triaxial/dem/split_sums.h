@@ -42,7 +42,8 @@ class SplitSums {
  public:
   /// Whether the plan serves `list` (this build) over n particles cut into `runs`.
   bool current(const NeighborList& list, std::size_t n, const ThreadRuns& runs) const {
-    return list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version();
+    return list_ == &list && build_ == list.rebuild_count() && n_ == n && runs_version_ == runs.version() &&
+           threads_ == runs.threads();
   }
   /// Remakes the plan unless current (serially).
   void prepare(const NeighborList& list, std::size_t n, const ThreadRuns& runs);
@@ -73,6 +74,7 @@ class SplitSums {
   std::int64_t build_ = -1;
   std::size_t n_ = 0;
   std::int64_t runs_version_ = -1;
+  int threads_ = 0;
   std::size_t edges_ = 0, tails_ = 0;
   std::vector<std::vector<std::int32_t>> edge_;
   std::vector<std::vector<Tail>> tail_;
