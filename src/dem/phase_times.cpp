@@ -1,6 +1,7 @@
 #include "virtual_triaxial/dem/phase_times.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace vt::dem {
 
@@ -19,35 +20,43 @@ double PhaseTimes::busy_of(const Slot& slot) {
   return sum;
 }
 
-void PhaseTimes::add_region(Region r, double seconds) {
-  regions_[r] += seconds;
+namespace {
+
+/// The largest of the positive values `busy(slot)` over the slots (the
+/// threads of the team) and their mean; {0, 0} without any.
+template <class Slots, class Busy>
+std::pair<double, double> most_and_mean(const Slots& slots, const Busy& busy) {
   double most = 0.0, sum = 0.0;
   int team = 0;
-  for (Slot& slot : slots_) {
-    const double now = busy_of(slot);
-    const double step = now - slot.mark;
-    slot.mark = now;
-    if (step <= 0.0) continue;  // not in this team
-    slot.region_busy[r] += step;
-    most = std::max(most, step);
-    sum += step;
+  for (const auto& slot : slots) {
+    const double b = busy(slot);
+    if (b <= 0.0) continue;  // not in the team
+    most = std::max(most, b);
+    sum += b;
     ++team;
   }
-  if (team == 0) return;
-  imbalance_[r] += most - sum / team;
+  return {most, team == 0 ? 0.0 : sum / team};
+}
+
+}  // namespace
+
+void PhaseTimes::add_region(Region r, double seconds) {
+  regions_[r] += seconds;
+  for (Slot& slot : slots_) {
+    const double now = busy_of(slot);
+    slot.step = now - slot.mark;
+    slot.mark = now;
+    if (slot.step > 0.0) slot.region_busy[r] += slot.step;
+  }
+  const auto [most, mean] = most_and_mean(slots_, [](const Slot& slot) { return slot.step; });
+  if (most <= 0.0) return;  // no team
+  imbalance_[r] += most - mean;
   overhead_[r] += seconds - most;
 }
 
 double PhaseTimes::steady_imbalance(Region r) const {
-  double most = 0.0, sum = 0.0;
-  int team = 0;
-  for (const Slot& slot : slots_) {
-    if (slot.region_busy[r] <= 0.0) continue;
-    most = std::max(most, slot.region_busy[r]);
-    sum += slot.region_busy[r];
-    ++team;
-  }
-  return team == 0 ? 0.0 : most - sum / team;
+  const auto [most, mean] = most_and_mean(slots_, [r](const Slot& slot) { return slot.region_busy[r]; });
+  return most - mean;
 }
 
 double PhaseTimes::seconds(int t, Phase p) const {

@@ -88,6 +88,7 @@ class PhaseTimes {
   struct alignas(64) Slot {
     double s[kPhaseCount] = {};
     double mark = 0.0;                     // busy at the last add_region
+    double step = 0.0;                     // busy between the last two add_region calls (b_t)
     double region_busy[kRegionCount] = {};  // busy per region (B_t)
   };
   static double busy_of(const Slot& slot);

@@ -8,8 +8,9 @@
 // count, N or T changes: equal runs (chunk_run, chunked.h). Every step each
 // thread adds the wall time it spent on its own run (record; not its waits
 // at barriers, nor the completions of the sums it shares after the pair
-// loops' barrier, split_sums.h, which do not depend on the runs). A window closes after at least kWindowSteps steps with at
-// least kWindowSeconds of work on the busiest thread; then, with
+// loops' barrier, split_sums.h, which do not depend on the runs). A window
+// closes after at least kWindowSteps steps with at least kWindowSeconds of
+// work on the busiest thread; then, with
 // P_t the particles of run t and B_t its busy time, the speed is
 // s_t = P_t / B_t [particles/s] and the runs are re-cut at chunk boundaries
 // so that P'_t is proportional to s_t (cumulative targets rounded to the
