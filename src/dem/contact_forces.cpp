@@ -90,12 +90,10 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   Vec3* tout = torque.data();
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
-  // one thread, and a team of several (partners outside the thread's run
-  // not summed: PairInputs::home; the spheroid kernel always tests it)
+  // One thread and a team of several alike (a team's kernels sum no
+  // partner outside the thread's run: PairInputs::home).
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
-                                            : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, false);
-  const pairs::PairKernel team_kernel =
-      spheroids ? kernel : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0, true);
+                                            : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
 
   // Gather, per particle, over its gather slots in list order: entries of
   // owners stored before it (force added), its own entries (force
@@ -212,12 +210,12 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   {
     Scratch& mine = scratch[omp_get_thread_num()];
     const int team = omp_get_num_threads();
-    const auto evaluate_chunk_with = [&](pairs::PairKernel k, const PairInputs& inputs, std::int32_t c) {
+    const auto evaluate_chunk = [&](const PairInputs& inputs, std::int32_t c) {
       const std::int32_t i_begin = c * kChunkSize;
       const std::int32_t i_end = std::min<std::int32_t>(ni, i_begin + kChunkSize);
       mine.reserve(static_cast<std::size_t>(in.off[i_end] - in.off[i_begin]));
-      sums[c] = k(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
-                  mine.dist2.data());
+      sums[c] = kernel(inputs, i_begin, i_end, mine.entry.data(), mine.separated.data(), mine.branch.data(),
+                       mine.dist2.data());
     };
     if (team == 1) {
       // One thread, chunks in ascending order: the pair loop visits every
@@ -226,7 +224,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const double t0 = omp_get_wtime();
       if (spheroids) refresh_bodies(0, ni);
       const double t1 = omp_get_wtime();
-      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk_with(kernel, in, c);
+      for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(in, c);
       const double t2 = omp_get_wtime();
       if (!scatter)
         for (std::int32_t i = 0; i < ni; ++i) {
@@ -274,7 +272,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       own.torque_out = tout;
       own.own_begin = i0;
       own.own_span = static_cast<std::uint32_t>(i1 - i0);
-      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk_with(team_kernel, own, c);
+      for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(own, c);
       const double paired = omp_get_wtime() - pairs_start;
 #pragma omp barrier
       const double summing = omp_get_wtime();

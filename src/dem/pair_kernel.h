@@ -64,10 +64,10 @@ struct PairInputs {
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
   const double* mass;
   double viscous_a;
-  // Several threads (the sphere split kernel, sphere_pair_kernel, and the
-  // spheroid kernel): partners outside particles [own_begin, own_begin +
-  // own_span) take no sum here (their sums are completed after the pair
-  // loops' barrier, from the pair states, split_sums.h).
+  // Several threads (both kernels): partners outside particles [own_begin,
+  // own_begin + own_span) take no sum here (their sums are completed after
+  // the pair loops' barrier, from the pair states, split_sums.h). One
+  // thread: every partner is home (the defaults).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
   /// Whether particle j is summed here (in [own_begin, own_begin + own_span)).
@@ -159,9 +159,10 @@ using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t
                                    Vec3*, double*);
 
 /// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy and
-/// force norms, `viscous` the contact dashpots; `split` reads own_begin and
-/// own_span (several threads), else every partner is summed.
-PairKernel sphere_pair_kernel(bool measure, bool viscous, bool split);
+/// force norms, `viscous` the contact dashpots. One kernel for one thread
+/// and for a team: the test of PairInputs::home costs nothing measurable on
+/// one thread (1.004, session 21), so no variant without it is kept.
+PairKernel sphere_pair_kernel(bool measure, bool viscous);
 
 /// Kernel for particles that include spheroids (spheroid_pairs.cpp).
 PairKernel spheroid_pair_kernel(bool measure, bool viscous);

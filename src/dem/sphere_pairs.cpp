@@ -103,7 +103,7 @@ inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e
 /// zero force and moment (so the gather may add every entry); one that was in
 /// contact at the last evaluation also loses its spring. Measure = false
 /// skips what only measured steps use (elastic energy, force norms).
-template <bool Measure, bool Viscous, bool Split>
+template <bool Measure, bool Viscous>
 ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
                            std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch, double* c_dist2) {
   const Mat3 h = in.h, lgrad = in.lgrad;
@@ -181,7 +181,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
         // a partner of another thread's run: completed after the pair
         // loops, from the pair states (split_sums.h)
-        const bool home = !Split || in.home(j);
+        const bool home = in.home(j);
         Vec3& fj = home ? in.force_out[j] : sink_f;
         Vec3& tj = home ? in.torque_out[j] : sink_t;
         fj += f;
@@ -196,13 +196,9 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
 
 }  // namespace
 
-PairKernel sphere_pair_kernel(bool measure, bool viscous, bool split) {
-  if (split) {
-    if (viscous) return measure ? &evaluate_pairs<true, true, true> : &evaluate_pairs<false, true, true>;
-    return measure ? &evaluate_pairs<true, false, true> : &evaluate_pairs<false, false, true>;
-  }
-  if (viscous) return measure ? &evaluate_pairs<true, true, false> : &evaluate_pairs<false, true, false>;
-  return measure ? &evaluate_pairs<true, false, false> : &evaluate_pairs<false, false, false>;
+PairKernel sphere_pair_kernel(bool measure, bool viscous) {
+  if (viscous) return measure ? &evaluate_pairs<true, true> : &evaluate_pairs<false, true>;
+  return measure ? &evaluate_pairs<true, false> : &evaluate_pairs<false, false>;
 }
 
 }  // namespace vt::dem::pairs
