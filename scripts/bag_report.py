@@ -134,6 +134,11 @@ COLUMNS = {"stress": _stress_cols, "strain": _strain_cols, "moment_index": _mome
 ORDER = ["stress", "strain", "moment_index", "kinetic_energy", "fabric", "servo_state", "protocol_status"]
 # the first topic that has a message for a tick gives time_s when stress is absent
 TIME_FIELDS = ["strain", "moment_index", "kinetic_energy", "fabric"]
+# Topics published on events (a stage's start and end, the verdict) and on the
+# judge's sample ticks, not on every tick: they make no rows of their own; each
+# row takes the last message at or before its tick, and none of them missing
+# from a row, or two of them on one tick, is worth a warning.
+EVENT_TOPICS = {"protocol_status"}
 
 
 # ---- reading -----------------------------------------------------------------------------
@@ -193,12 +198,20 @@ def read_series(bags, topics, axis):
     """{tick: {column: value}} and the ordered column list."""
     by_topic = {t: s for s, t in topics.items()}
     extract = {s: COLUMNS[s](axis) for s in topics}
+    # with no per-tick topic at all, the event topics' own ticks make the rows
+    events_apart = any(s not in EVENT_TOPICS for s in topics)
     rows = {}
     repeated = {}
+    events = []  # (tick, short, message), in recording order
     for path, bag in bags:
         for topic, msg, _t in bag.read_messages(topics=list(by_topic)):
             short = by_topic[topic]
             tick = int(msg.tick)
+            if events_apart and short in EVENT_TOPICS:
+                # A message sent without its tick (0 after later ticks: a stage
+                # start or the verdict of older nodes) belongs to the latest tick.
+                events.append((events[-1][0] if tick == 0 and events else tick, short, msg))
+                continue
             row = rows.setdefault(tick, {})
             if short in row.get("_from", ()):
                 repeated[short] = repeated.get(short, 0) + 1  # later message wins
@@ -207,8 +220,21 @@ def read_series(bags, topics, axis):
                 row[name] = f(msg)
             if short in TIME_FIELDS and "time_s" not in row and "stress" not in topics:
                 row["time_s"] = msg.time
+    # each row: the last event message at or before its tick (stable sort:
+    # recording order within a tick)
+    events.sort(key=lambda e: e[0])
+    current, k = {}, 0
+    for tick in sorted(rows):
+        while k < len(events) and events[k][0] <= tick:
+            current[events[k][1]] = events[k][2]
+            k += 1
+        for short, msg in current.items():
+            for name, f in extract[short]:
+                rows[tick][name] = f(msg)
     # a recorder that could not keep up drops messages: say so (cells stay empty)
     for short, topic in sorted(topics.items()):
+        if events_apart and short in EVENT_TOPICS:
+            continue
         n = sum(1 for r in rows.values() if short in r["_from"])
         if n < len(rows):
             sys.stderr.write("%s: warning: %s (%s): no message for %d of %d ticks (left empty)\n" % (

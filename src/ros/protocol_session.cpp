@@ -337,6 +337,7 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
              index + 1, count);
 
   virtual_triaxial::ProtocolStatus status;
+  status.tick = now;  // the stage starts after this tick
   status.protocol = protocol_name_;
   status.stage = st.name;
   status.stage_index = static_cast<std::uint32_t>(index);

@@ -320,7 +320,11 @@ void TestProtocolNode::execute(GoalHandle gh) {
   links.arm = [this](TickJudge j, std::uint64_t start) { arm(std::move(j), start); };
   links.answer = [this](std::uint64_t t) { answer(t); };
   links.feedback = [&gh](const virtual_triaxial::RunTestFeedback& f) { gh.publishFeedback(f); };
-  links.status = [this](const virtual_triaxial::ProtocolStatus& s) { status_pub_.publish(s); };
+  virtual_triaxial::ProtocolStatus last_status;  // the verdict below continues it (tick, stage, strain)
+  links.status = [this, &last_status](const virtual_triaxial::ProtocolStatus& s) {
+    last_status = s;
+    status_pub_.publish(s);
+  };
   protocol::RunReport report;
   try {
     io::ResultsRecorder recorder(result.results_file, true);
@@ -363,7 +367,7 @@ void TestProtocolNode::execute(GoalHandle gh) {
   result.runtime = report.wall_seconds;
   result.steps = report.steps;
   result.ticks = static_cast<std::uint64_t>(report.ticks);
-  virtual_triaxial::ProtocolStatus st;
+  virtual_triaxial::ProtocolStatus st = last_status;  // the last tick's, so a recording ends on it
   st.state = result.verdict;
   st.message = report.failure;
   status_pub_.publish(st);

@@ -5,9 +5,16 @@ Writes a recording of a fake rig in the namespace /rig1, split into two bag
 files (ticks 1..25 and 26..50, given to the tool in reverse order), with
 Stress, Strain, MomentIndex, KineticEnergy, Fabric and ServoState messages
 following closed forms of the tick k (q = 2 eps_a 1e5 Pa, ...), plus an
-unrelated topic. Runs the tool as a subprocess and checks that
+unrelated topic and the protocol node's status as the rig sends it (on
+events and every SAMPLE-th tick: idle and a stage start at tick 0, a stage
+end and the next start at tick SPLIT, the latter without its tick as older
+nodes sent it, the verdict at the end). Runs the tool as a subprocess and
+checks that
   - the CSV has one row per tick, ticks strictly rising, and its columns
     reproduce the closed forms to 1e-12 relative;
+  - each row carries the protocol status last sent at or before its tick,
+    and the tool warns of nothing (no rows of their own for the status
+    messages, no "missing" or "seen twice" for them);
   - every PNG exists and is a non-empty PNG;
   - --csv-only writes no PNG;
   - a missing bag, and a bag without rig topics, give exit status 2 and a
@@ -26,13 +33,14 @@ import unittest
 import rosbag
 import rospy
 from std_msgs.msg import String
-from virtual_triaxial.msg import Fabric, KineticEnergy, MomentIndex, ServoState, Strain, Stress
+from virtual_triaxial.msg import Fabric, KineticEnergy, MomentIndex, ProtocolStatus, ServoState, Strain, Stress
 
 PKG = "virtual_triaxial"
 HERE = os.path.dirname(os.path.abspath(__file__))
 TOOL = os.path.join(HERE, "..", "..", "scripts", "bag_report.py")
 NTICKS = 50
 SPLIT = 25
+SAMPLE = 5  # the status is sent every SAMPLE-th tick
 PNGS = ["q_eps_a.png", "eps_v_eps_a.png", "q_p_stress_path.png", "e_log_p.png", "I_mom_eps_a.png",
         "kinetic_energy_eps_a.png"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -118,6 +126,36 @@ def messages(k):
                    ("/chatter", String(data="not a rig topic %d" % k))]
 
 
+def status(tick, state, stage, index, eps_a=0.0, message=""):
+    s = ProtocolStatus()
+    s.tick, s.state, s.protocol, s.stage, s.stage_index, s.stage_count = tick, state, "synthetic", stage, index, 2
+    s.eps_a, s.message = eps_a, message
+    return s
+
+
+def status_messages(k):
+    """The status messages sent while tick k is recorded (tick 0: before the first)."""
+    out = []
+    if k == 0:
+        out = [status(0, "idle", "", 0), status(0, "running", "consolidation", 0)]
+    elif k == SPLIT:
+        out = [status(k, "running", "consolidation", 0, 1e-4 * k, "balanced"),
+               status(0, "running", "shear", 1)]  # a stage start without its tick (older nodes)
+    elif k == NTICKS:
+        out = [status(k, "running", "shear", 1, 1e-4 * k, "axial strain"),
+               status(0, "completed", "", 0)]  # the verdict without its tick (older nodes)
+    elif k % SAMPLE == 0:
+        out = [status(k, "running", "consolidation" if k < SPLIT else "shear", 0 if k < SPLIT else 1, 1e-4 * k)]
+    return out
+
+
+def expected_status(k):
+    """(state, stage) a row of tick k carries: the last status sent at or before it."""
+    if k == NTICKS:
+        return "completed", ""
+    return "running", "consolidation" if k < SPLIT else "shear"
+
+
 def run_tool(*args):
     return subprocess.run(["/usr/bin/python3", TOOL] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                           universal_newlines=True, timeout=300)
@@ -130,11 +168,14 @@ class BagReportTest(unittest.TestCase):
         cls.bags = [os.path.join(cls.tmp, "rig_%d.bag" % i) for i in range(2)]
         for i, path in enumerate(cls.bags):
             with rosbag.Bag(path, "w") as bag:
-                ticks = range(1, SPLIT + 1) if i == 0 else range(SPLIT + 1, NTICKS + 1)
+                ticks = range(0 if i == 0 else SPLIT + 1, SPLIT + 1 if i == 0 else NTICKS + 1)
                 for k in ticks:
-                    stamp, msgs = messages(k)
-                    for topic, msg in msgs:
-                        bag.write(topic, msg, t=stamp)
+                    stamp = rospy.Time.from_sec(1e-6 * k + 0.5)  # closed_form's time_s
+                    if k > 0:
+                        for topic, msg in messages(k)[1]:
+                            bag.write(topic, msg, t=stamp)
+                    for n, msg in enumerate(status_messages(k)):  # after the tick's state, in order
+                        bag.write("/rig1/protocol_status", msg, t=stamp + rospy.Duration(0, 1000 * (n + 1)))
         cls.out = os.path.join(cls.tmp, "report")
         # split files given in reverse order: the tool must read them in time order
         cls.result = run_tool(cls.bags[1], cls.bags[0], "--out", cls.out)
@@ -153,6 +194,17 @@ class BagReportTest(unittest.TestCase):
         self.assertIn(os.path.join(self.out, "rig_series.csv"), r.stdout)
         for png in PNGS:
             self.assertIn(os.path.join(self.out, png), r.stdout)
+
+    def test_rows_carry_the_last_status_and_nothing_is_warned(self):
+        self.assertNotIn("warning", self.result.stderr)
+        rows = self.rows()
+        self.assertEqual(len(rows), NTICKS)
+        for r in rows:
+            k = int(r["tick"])
+            self.assertEqual((r["protocol_state"], r["protocol_stage"]), expected_status(k), "tick %d" % k)
+        by_tick = {int(r["tick"]): r for r in rows}
+        self.assertEqual(float(by_tick[SAMPLE]["stage_eps_a"]), 1e-4 * SAMPLE)
+        self.assertEqual(float(by_tick[SAMPLE + 1]["stage_eps_a"]), 1e-4 * SAMPLE)  # carried to the next sample
 
     def test_one_row_per_tick_strictly_rising(self):
         rows = self.rows()

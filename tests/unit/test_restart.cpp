@@ -110,8 +110,8 @@ TEST(Restart, PairLoopSumsEqualTheGatherAcrossChunks) {
   EXPECT_FALSE(same_bits(start.particles.omega, one.state().particles.omega));
 }
 
-// The split sphere kernel with the contact dashpots (viscous damping): two
-// and three threads give the one-thread bits.
+// The sphere kernel with the contact dashpots (viscous damping) on a team:
+// two and three threads give the one-thread bits.
 TEST(Restart, SplitSumsWithContactDashpotsGiveTheOneThreadBits) {
   SimulationState start = vt::test::spatially_sorted(loaded_packing(1600));
   start.settings.damping = MassDamping(DampingModel::Viscous, 0.5);
