@@ -136,8 +136,9 @@ ORDER = ["stress", "strain", "moment_index", "kinetic_energy", "fabric", "servo_
 TIME_FIELDS = ["strain", "moment_index", "kinetic_energy", "fabric"]
 # Topics published on events (a stage's start and end, the verdict) and on the
 # judge's sample ticks, not on every tick: they make no rows of their own; each
-# row takes the last message at or before its tick, and none of them missing
-# from a row, or two of them on one tick, is worth a warning.
+# row takes the last message at or before its tick (an "idle" status, the node
+# between tests, is no tick of a test), and none of them missing from a row,
+# or two of them on one tick, is worth a warning.
 EVENT_TOPICS = {"protocol_status"}
 
 
@@ -208,6 +209,8 @@ def read_series(bags, topics, axis):
             short = by_topic[topic]
             tick = int(msg.tick)
             if events_apart and short in EVENT_TOPICS:
+                if getattr(msg, "state", "") == "idle":
+                    continue  # the node between tests (a resumed run's node starts idle), no tick of a test
                 # A message sent without its tick (0 after later ticks: a stage
                 # start or the verdict of older nodes) belongs to the latest tick.
                 events.append((events[-1][0] if tick == 0 and events else tick, short, msg))

@@ -343,7 +343,9 @@ bool ProtocolSession::run_stage(const protocol::StageSpec& st, std::size_t index
   status.stage_index = static_cast<std::uint32_t>(index);
   status.stage_count = static_cast<std::uint32_t>(count);
   status.state = "running";
-  links.status(status);
+  // A resumed stage is not started again: its recording continues the
+  // killed run's (bag_report.py gives the uninterrupted run's table).
+  if (!resume) links.status(status);
 
   // One tick judged by the stage judge (see TickJudge); it runs in the
   // node's tick thread and owns the judge's decide() side while the stage runs.
