@@ -11,7 +11,10 @@ so namespaced rigs work (/rig1/stress ...):
 Joins them by their `tick` field and writes
   DIR/rig_series.csv        one row per tick (rising), units in the header
                             (_Pa, _J, _s, _rad, _per_s; none = dimensionless);
-                            a tick a topic has no message for is left empty
+                            a tick a topic has no message for is left empty;
+                            the ProtocolStatus columns (sent on events and
+                            sample ticks) carry the status last sent at or
+                            before the tick
   DIR/q_eps_a.png           deviator stress against axial strain
   DIR/eps_v_eps_a.png       volumetric against axial strain
   DIR/q_p_stress_path.png   q - p stress path
