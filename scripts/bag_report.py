@@ -138,11 +138,27 @@ ORDER = ["stress", "strain", "moment_index", "kinetic_energy", "fabric", "servo_
 # the first topic that has a message for a tick gives time_s when stress is absent
 TIME_FIELDS = ["strain", "moment_index", "kinetic_energy", "fabric"]
 # Topics published on events (a stage's start and end, the verdict) and on the
-# judge's sample ticks, not on every tick: they make no rows of their own; each
-# row takes the last message at or before its tick (an "idle" status, the node
-# between tests, is no tick of a test), and none of them missing from a row,
-# or two of them on one tick, is worth a warning.
+# judge's sample ticks, not on every tick. Beside a per-tick rig topic they
+# make no rows of their own; each row takes the last message that holds at its
+# tick (_event_tick), and none of them missing from a row, or two of them on
+# one tick, is worth a warning. (Alone in a recording, they make the rows.)
 EVENT_TOPICS = {"protocol_status"}
+
+
+def _event_tick(msg, events):
+    """The tick from which a status holds, or None when it belongs to no tick
+    of a test: "idle" (the node between tests) and, after the first, a status
+    without its tick (a refused goal; older nodes' stage starts and verdicts).
+    A stage start (running after a verdict or another stage) is sent with the
+    tick the stage starts after, so it holds from the next one: the last tick
+    of the stage or test before keeps its own status."""
+    tick = int(msg.tick)
+    if msg.state == "idle" or (tick == 0 and events):
+        return None
+    prev = events[-1][2] if events else None
+    starts = msg.state == "running" and prev is not None and (
+        prev.state != "running" or (prev.protocol, prev.stage_index) != (msg.protocol, msg.stage_index))
+    return tick + 1 if starts else tick
 
 
 # ---- reading -----------------------------------------------------------------------------
@@ -206,21 +222,25 @@ def read_series(bags, topics, axis):
     events_apart = any(s not in EVENT_TOPICS for s in topics)
     rows = {}
     repeated = {}
-    events = []  # (tick, short, message), in recording order
+    events = []  # (tick from which it holds, short, message), in recording order
     for path, bag in bags:
+        rerun = False
         for topic, msg, _t in bag.read_messages(topics=list(by_topic)):
             short = by_topic[topic]
             tick = int(msg.tick)
             if events_apart and short in EVENT_TOPICS:
-                if getattr(msg, "state", "") == "idle":
-                    continue  # the node between tests (a resumed run's node starts idle), no tick of a test
-                # A message sent without its tick (0 after later ticks: a stage
-                # start or the verdict of older nodes) belongs to the latest tick.
-                events.append((events[-1][0] if tick == 0 and events else tick, short, msg))
+                held = _event_tick(msg, events)
+                if held is not None:
+                    events.append((held, short, msg))
                 continue
             row = rows.setdefault(tick, {})
             if short in row.get("_from", ()):
                 repeated[short] = repeated.get(short, 0) + 1  # later message wins
+                if not rerun:
+                    # this file runs ticks again (a resumed test): its statuses
+                    # replace the older ones from the first tick run again
+                    rerun = True
+                    events = [e for e in events if e[0] < tick]
             row.setdefault("_from", set()).add(short)
             for name, f in extract[short]:
                 row[name] = f(msg)

@@ -7,14 +7,19 @@ Stress, Strain, MomentIndex, KineticEnergy, Fabric and ServoState messages
 following closed forms of the tick k (q = 2 eps_a 1e5 Pa, ...), plus an
 unrelated topic and the protocol node's status as the rig sends it (on
 events and every SAMPLE-th tick: idle and a stage start at tick 0, a stage
-end and the next start at tick SPLIT, the latter without its tick as older
-nodes sent it, the verdict at the end). Runs the tool as a subprocess and
-checks that
+end and the next stage's start at tick SPLIT, the last stage's end and the
+verdict at the last tick, then a refused goal's status, which has no tick,
+and a second test's start). Runs the tool as a subprocess and checks that
   - the CSV has one row per tick, ticks strictly rising, and its columns
     reproduce the closed forms to 1e-12 relative;
-  - each row carries the protocol status last sent at or before its tick,
-    and the tool warns of nothing (no rows of their own for the status
-    messages, no "missing" or "seen twice" for them);
+  - each row carries the protocol status that holds at its tick (a stage
+    start from the tick after the one it is sent with, so the last tick of
+    a stage or test keeps its own), and the tool warns of nothing (no rows
+    of their own for the status messages, no "missing" or "seen twice");
+  - a resumed recording (the killed run's files, with a verdict its
+    surviving node sent, then the resumed run's files, which run ticks
+    again from the checkpoint and send no stage start) gives the
+    uninterrupted run's table byte for byte;
   - every PNG exists and is a non-empty PNG;
   - --csv-only writes no PNG;
   - a missing bag, and a bag without rig topics, give exit status 2 and a
@@ -41,6 +46,8 @@ TOOL = os.path.join(HERE, "..", "..", "scripts", "bag_report.py")
 NTICKS = 50
 SPLIT = 25
 SAMPLE = 5  # the status is sent every SAMPLE-th tick
+KILLED_AT = 37  # a killed run's last tick; it resumes from a checkpoint after RESUME_FROM - 1
+RESUME_FROM = 33
 PNGS = ["q_eps_a.png", "eps_v_eps_a.png", "q_p_stress_path.png", "e_log_p.png", "I_mom_eps_a.png",
         "kinetic_energy_eps_a.png"]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -133,27 +140,47 @@ def status(tick, state, stage, index, eps_a=0.0, message=""):
     return s
 
 
-def status_messages(k):
-    """The status messages sent while tick k is recorded (tick 0: before the first)."""
+def status_messages(k, resumed=False):
+    """The status messages sent while tick k is recorded (tick 0: before the
+    first), as test_protocol_node sends them; a resumed run's node starts
+    idle and sends no start of the stage it resumes."""
     out = []
     if k == 0:
         out = [status(0, "idle", "", 0), status(0, "running", "consolidation", 0)]
     elif k == SPLIT:
         out = [status(k, "running", "consolidation", 0, 1e-4 * k, "balanced"),
-               status(0, "running", "shear", 1)]  # a stage start without its tick (older nodes)
+               status(k, "running", "shear", 1)]  # the next stage starts after tick k
     elif k == NTICKS:
-        out = [status(k, "running", "shear", 1, 1e-4 * k, "axial strain"),
-               status(0, "completed", "", 0)]  # the verdict without its tick (older nodes)
+        end = status(k, "running", "shear", 1, 1e-4 * k, "axial strain")
+        verdict = status(k, "completed", "shear", 1, 1e-4 * k, "axial strain")  # the last status, final state
+        out = [end, verdict, status(0, "failed", "", 0, 0.0, "refused: bad goal"),  # a refused goal: no tick
+               status(k, "running", "consolidation", 0)]  # a second test starts after tick k
+        out[-1].protocol = "second"
     elif k % SAMPLE == 0:
         out = [status(k, "running", "consolidation" if k < SPLIT else "shear", 0 if k < SPLIT else 1, 1e-4 * k)]
-    return out
+    return [status(0, "idle", "", 0)] + out if resumed and k == RESUME_FROM else out
 
 
 def expected_status(k):
-    """(state, stage) a row of tick k carries: the last status sent at or before it."""
+    """(state, stage, stage_eps_a) a row of tick k carries."""
     if k == NTICKS:
-        return "completed", ""
-    return "running", "consolidation" if k < SPLIT else "shear"
+        return "completed", "shear", 1e-4 * k
+    if k <= SPLIT:
+        return "running", "consolidation", 1e-4 * (k - k % SAMPLE)
+    return "running", "shear", 0.0 if k < SPLIT + SAMPLE else 1e-4 * (k - k % SAMPLE)
+
+
+def write_bag(path, ticks, resumed=False, verdict=None):
+    """Ticks of the rig and the statuses sent with them into one file."""
+    with rosbag.Bag(path, "w") as bag:
+        for k in ticks:
+            stamp = rospy.Time.from_sec(1e-6 * k + 0.5)  # closed_form's time_s
+            if k > 0:
+                for topic, msg in messages(k)[1]:
+                    bag.write(topic, msg, t=stamp)
+            sent = status_messages(k, resumed) + ([verdict] if verdict is not None and k == ticks[-1] else [])
+            for n, msg in enumerate(sent):  # after the tick's state, in order
+                bag.write("/rig1/protocol_status", msg, t=stamp + rospy.Duration(0, 1000 * (n + 1)))
 
 
 def run_tool(*args):
@@ -166,16 +193,14 @@ class BagReportTest(unittest.TestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="vt_bag_report_")
         cls.bags = [os.path.join(cls.tmp, "rig_%d.bag" % i) for i in range(2)]
-        for i, path in enumerate(cls.bags):
-            with rosbag.Bag(path, "w") as bag:
-                ticks = range(0 if i == 0 else SPLIT + 1, SPLIT + 1 if i == 0 else NTICKS + 1)
-                for k in ticks:
-                    stamp = rospy.Time.from_sec(1e-6 * k + 0.5)  # closed_form's time_s
-                    if k > 0:
-                        for topic, msg in messages(k)[1]:
-                            bag.write(topic, msg, t=stamp)
-                    for n, msg in enumerate(status_messages(k)):  # after the tick's state, in order
-                        bag.write("/rig1/protocol_status", msg, t=stamp + rospy.Duration(0, 1000 * (n + 1)))
+        write_bag(cls.bags[0], list(range(0, SPLIT + 1)))
+        write_bag(cls.bags[1], list(range(SPLIT + 1, NTICKS + 1)))
+        # the same test killed after tick KILLED_AT (its node, still alive, sends
+        # a verdict), then resumed: ticks RESUME_FROM.. run again in new files
+        cls.resumed_bags = [cls.bags[0], os.path.join(cls.tmp, "rig_killed.bag"), os.path.join(cls.tmp, "rig_r1_0.bag")]
+        write_bag(cls.resumed_bags[1], list(range(SPLIT + 1, KILLED_AT + 1)),
+                  verdict=status(KILLED_AT, "failed", "shear", 1, 1e-4 * KILLED_AT, "servo died"))
+        write_bag(cls.resumed_bags[2], list(range(RESUME_FROM, NTICKS + 1)), resumed=True)
         cls.out = os.path.join(cls.tmp, "report")
         # split files given in reverse order: the tool must read them in time order
         cls.result = run_tool(cls.bags[1], cls.bags[0], "--out", cls.out)
@@ -195,16 +220,23 @@ class BagReportTest(unittest.TestCase):
         for png in PNGS:
             self.assertIn(os.path.join(self.out, png), r.stdout)
 
-    def test_rows_carry_the_last_status_and_nothing_is_warned(self):
+    def test_rows_carry_the_status_that_holds_and_nothing_is_warned(self):
         self.assertNotIn("warning", self.result.stderr)
         rows = self.rows()
         self.assertEqual(len(rows), NTICKS)
         for r in rows:
             k = int(r["tick"])
-            self.assertEqual((r["protocol_state"], r["protocol_stage"]), expected_status(k), "tick %d" % k)
-        by_tick = {int(r["tick"]): r for r in rows}
-        self.assertEqual(float(by_tick[SAMPLE]["stage_eps_a"]), 1e-4 * SAMPLE)
-        self.assertEqual(float(by_tick[SAMPLE + 1]["stage_eps_a"]), 1e-4 * SAMPLE)  # carried to the next sample
+            state, stage, eps = expected_status(k)
+            self.assertEqual((r["protocol_state"], r["protocol_stage"]), (state, stage), "tick %d" % k)
+            self.assertAlmostEqual(float(r["stage_eps_a"]), eps, delta=1e-15, msg="tick %d" % k)
+
+    def test_a_resumed_recording_gives_the_uninterrupted_table(self):
+        out = os.path.join(self.tmp, "resumed")
+        r = run_tool(*self.resumed_bags, "--out", out, "--csv-only")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("seen twice", r.stderr)  # the ticks run again are said (their later message is used)
+        with open(os.path.join(out, "rig_series.csv")) as f, open(os.path.join(self.out, "rig_series.csv")) as g:
+            self.assertEqual(f.read(), g.read())
 
     def test_one_row_per_tick_strictly_rising(self):
         rows = self.rows()

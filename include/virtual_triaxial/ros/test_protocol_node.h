@@ -36,7 +36,9 @@
 //           test states the I_QS of its quasi-static verdict
 //           (quasi_static_threshold).
 //   topic   protocol_status (virtual_triaxial/ProtocolStatus) on sample ticks
-//           and at every change of state.
+//           and at every change of state (a stage start with the tick it
+//           starts after, none when a stage is resumed; the verdict as the
+//           last tick's status with the final state).
 //
 // Lockstep: at the start of a test the node registers with dem_node as a
 // lockstep participant without axes (claim_axes with no axes), so dem_node
