@@ -13,8 +13,8 @@ Joins them by their `tick` field and writes
                             (_Pa, _J, _s, _rad, _per_s; none = dimensionless);
                             a tick a topic has no message for is left empty;
                             the ProtocolStatus columns (sent on events and
-                            sample ticks) carry the status last sent at or
-                            before the tick
+                            sample ticks) carry the status that holds at the
+                            tick (see _event_tick)
   DIR/q_eps_a.png           deviator stress against axial strain
   DIR/eps_v_eps_a.png       volumetric against axial strain
   DIR/q_p_stress_path.png   q - p stress path
@@ -246,7 +246,7 @@ def read_series(bags, topics, axis):
                 row[name] = f(msg)
             if short in TIME_FIELDS and "time_s" not in row and "stress" not in topics:
                 row["time_s"] = msg.time
-    # each row: the last event message at or before its tick (stable sort:
+    # each row: the last event message that holds at its tick (stable sort:
     # recording order within a tick)
     events.sort(key=lambda e: e[0])
     current, k = {}, 0
