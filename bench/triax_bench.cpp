@@ -52,6 +52,31 @@
 // --sums: on one thread, where per-particle forces are summed (Simulation::
 // set_pair_loop_sum_threshold: auto = the default (the pair loop), pair-loop, gather;
 // same fingerprint, for A/B); the output says which one ran (sums_in).
+// --alternate A,B [--block K] (instead of --threads): one simulation runs
+// on A threads and on B threads in turn, K steps at a time (default 200),
+// S steps on each count (so it advances 2S; the results do not depend on
+// the thread count, so the fingerprint is that of 2S steps), so a
+// drift of the host's speed hits both counts alike (block_turns.h). A
+// switch of thread count remakes the threads' runs (thread_runs.h: equal
+// runs, re-cut after 20 steps) and the split of the sums (split_sums.h),
+// which the blocks' times include (about 1.6 ms per switch to two threads
+// at 12 000 spheres). Prints us_per_particle_step_threads_T for both counts
+// and alternate_speedup: the median (and quartiles) over pairs of blocks of
+// the A block's cost over the B block's, how much faster B threads are.
+// --pair-tile KxKyKz [--pair-sample FILE] [--block K] (with --sample): a
+// second simulation, of FILE (default the same sample) tiled KxKyKz and
+// stored in the same order, set up and warmed up alike, runs in turn with
+// the first on the same threads, K steps of the first, then K of the
+// second (block_turns.h; the same steps, so both are sheared alike: the
+// cost falls as the timing shears, e.g. spheroid contacts per particle
+// from 3.7 to 2.8 in 600 steps); prints
+// us_per_particle_step_pair and pair_cost_ratio: the median (quartiles)
+// over pairs of blocks of the second's cost over the first's (the issue's
+// x_N1 with the same sample at 12 000 and 10^5; spheroid / sphere with
+// the spheroid sample as the pair at the same tile).
+// Both print no phase times, and rss_bytes_per_particle then counts both
+// simulations (over the first's N); the pair's packing state at the start
+// of the timing is printed beside its cost.
 //
 // Output (stdout), "key: value" lines, us_per_particle_step last:
 //   void_ratio_start, contacts_per_particle_start, mean_stress_pa_start: the
@@ -73,6 +98,7 @@
 #include <malloc.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -94,6 +120,8 @@
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/sample_file.h"
+#include "block_turns.h"
+#include "quantile.h"
 
 using namespace vt::dem;
 
@@ -125,6 +153,10 @@ int usage(const char* msg) {
                "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
                "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n"
                "  --sums auto|pair-loop|gather: one thread, where forces are summed (A/B)\n"
+               "  --alternate A,B [--block K]: instead of --threads, A and B threads in turn,\n"
+               "  K steps at a time (default 200); prints both costs and the speed-up of B over A\n"
+               "  --pair-tile KxKyKz [--pair-sample FILE] [--block K]: with --sample, that sample (default\n"
+               "  the same) tiled so, timed in turn with the first; prints its cost and its cost over the first's\n"
                "  --sample FILE [--tile KxKyKz]: time a prepared sample file tiled periodically\n"
                "  (instead of --particles; no preparation)\n";
   return 2;
@@ -362,6 +394,7 @@ std::int64_t prepare(Simulation& sim, Clock::time_point t_start) {
 int main(int argc, char** argv) {
   long long n = -1, threads = -1, steps = -1, seed = 1;
   std::unique_ptr<Simulation> preloaded;
+  std::unique_ptr<Simulation> pair_sim;  // --pair-tile
   bool sort = true;
   bool sort_sample = false;  // --sample: Morton-sort the (tiled) sample before timing
   double skin_ratio = -1.0;
@@ -370,6 +403,10 @@ int main(int argc, char** argv) {
   bool sleep = true;
   std::string sums = "auto";
   double aspect = 1.2;
+  long long alternate[2] = {0, 0};  // --alternate A,B: thread counts taken in turn
+  long long block = 200;            // --block: steps per turn
+  int pair_tile[3] = {0, 0, 0};     // --pair-tile: a second simulation timed in turn
+  std::string pair_sample;          // --pair-sample: its sample (default --sample)
   std::string sample;
   int tile[3] = {1, 1, 1};
   for (int a = 1; a < argc; ++a) {
@@ -381,6 +418,23 @@ int main(int argc, char** argv) {
     } else if (k == "--threads") {
       if (v && std::string(v) == "auto") threads = 0;  // ThreadGovernor up to every core
       else if (!parse_int(v, 1, threads)) return usage("--threads needs an integer >= 1 or auto");
+      ++a;
+    } else if (k == "--alternate") {
+      const std::string list = v ? v : "";
+      const std::size_t comma = list.find(',');
+      if (comma == std::string::npos || !parse_int(list.substr(0, comma).c_str(), 1, alternate[0]) ||
+          !parse_int(list.substr(comma + 1).c_str(), 1, alternate[1]) || alternate[0] == alternate[1])
+        return usage("--alternate needs two different thread counts A,B >= 1");
+      ++a;
+    } else if (k == "--pair-tile") {
+      if (!v || !parse_tile(v, pair_tile)) return usage("--pair-tile needs K or KxKyKz with factors in [1, 100]");
+      ++a;
+    } else if (k == "--pair-sample") {
+      if (!v || !*v) return usage("--pair-sample needs a sample file");
+      pair_sample = v;
+      ++a;
+    } else if (k == "--block") {
+      if (!parse_int(v, 1, block)) return usage("--block needs an integer >= 1");
       ++a;
     } else if (k == "--steps") {
       if (!parse_int(v, 1, steps)) return usage("--steps needs an integer >= 1");
@@ -441,12 +495,25 @@ int main(int argc, char** argv) {
       sort = sort_sample;
       if (sort) spatial_sort(st);
       preloaded = std::make_unique<Simulation>(st);
+      if (pair_tile[0] > 0) {
+        const std::string& file = pair_sample.empty() ? sample : pair_sample;
+        SimulationState ps = tile_periodic(vt::io::read_sample(file), pair_tile[0], pair_tile[1], pair_tile[2]);
+        if (sort) spatial_sort(ps);
+        pair_sim = std::make_unique<Simulation>(ps);
+      }
     } catch (const std::exception& e) {
       std::cerr << "triax_bench: " << e.what() << "\n";
       return 2;
     }
   }
-  if (n < 0 || threads < 0) return usage("--particles (or --sample) and --threads are required");
+  const bool alternating = alternate[0] > 0;
+  const bool paired = pair_tile[0] > 0;
+  if (alternating && threads >= 0) return usage("--alternate and --threads exclude each other");
+  if (paired && (sample.empty() || alternating)) return usage("--pair-tile needs --sample and excludes --alternate");
+  if (paired && threads == 0) return usage("--pair-tile needs a thread count, not auto");
+  if (!pair_sample.empty() && !paired) return usage("--pair-sample needs --pair-tile");
+  if (alternating) threads = alternate[0];
+  if (n < 0 || threads < 0) return usage("--particles (or --sample) and --threads (or --alternate) are required");
   if (steps < 0) steps = std::max<long long>(200, static_cast<long long>(3e7 / static_cast<double>(n)));
 
   // ---- preparation, all hardware threads -------------------------------------
@@ -509,23 +576,41 @@ int main(int argc, char** argv) {
     st.settings.skin_ratio = skin_ratio;
     sim = std::make_unique<Simulation>(st);
   }
-  sim->set_sleep_apart_pairs(sleep);
-  if (threads == 0) sim->set_thread_governor(governor_on_this_machine(omp_get_num_procs()));
-  if (sums == "pair-loop") sim->set_pair_loop_sum_threshold(0);
-  if (sums == "gather") sim->set_pair_loop_sum_threshold(SIZE_MAX);
-  const double shear = kShearRate / sim->time_scale().t0;
-  sim->set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
-  for (int k = 0; k < 49; ++k)
-    if (!sim->step(false)) die(*sim);
-  if (!sim->step(true)) die(*sim);  // the packing timed: its state at the start
+  // The timed setup, for the simulation and (--pair-tile) its pair.
+  const auto set_up = [&](Simulation& s) {
+    s.set_sleep_apart_pairs(sleep);
+    if (threads == 0) s.set_thread_governor(governor_on_this_machine(omp_get_num_procs()));
+    if (sums == "pair-loop") s.set_pair_loop_sum_threshold(0);
+    if (sums == "gather") s.set_pair_loop_sum_threshold(SIZE_MAX);
+    const double shear = kShearRate / s.time_scale().t0;
+    s.set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
+    for (int k = 0; k < 49; ++k)
+      if (!s.step(false)) die(s);
+    if (!s.step(true)) die(s);  // the packing timed: its state at the start
+  };
+  Measures pair_m0;
+  if (pair_sim) {
+    set_up(*pair_sim);
+    pair_m0 = pair_sim->measures();
+  }
+  set_up(*sim);
   const Measures m0 = sim->measures();
   const std::int64_t rebuilds0 = sim->neighbor_list().rebuild_count();
   const std::uint64_t asleep0 = sim->spheroid_contact_stats().asleep;
   const double cpu0 = process_cpu_seconds();
   sim->reset_phase_times();
   const auto t_run = Clock::now();
-  for (long long k = 0; k < steps; ++k)
-    if (!sim->step(false)) die(*sim);
+  // --alternate: one simulation on two thread counts; --pair-tile: two simulations
+  vt::bench::Turn turns[2];
+  std::vector<double> turn_ratios;
+  if (alternating || paired) {
+    turns[0] = {sim.get(), static_cast<int>(threads), block};
+    turns[1] = {paired ? pair_sim.get() : sim.get(), static_cast<int>(paired ? threads : alternate[1]), block};
+    turn_ratios = vt::bench::run_turns(turns, steps, [](const Simulation& s) { die(s); });
+  } else {
+    for (long long k = 0; k < steps; ++k)
+      if (!sim->step(false)) die(*sim);
+  }
   const double wall = seconds_since(t_run);
   const PhaseTimes phases = sim->phase_times();  // of the timed steps only
   const double cpu = process_cpu_seconds() - cpu0;
@@ -538,7 +623,10 @@ int main(int argc, char** argv) {
 
   const double np = static_cast<double>(n);
   std::printf("particles: %lld\n", n);
-  if (threads > 0) std::printf("threads: %lld\n", threads);
+  if (alternating)
+    std::printf("threads: %lld and %lld in turn, %lld steps at a time\n", alternate[0], alternate[1], block);
+  else if (threads > 0)
+    std::printf("threads: %lld\n", threads);
   else
     std::printf("threads: auto (%lld steps on 1, %lld on %d)\n", static_cast<long long>(sim->thread_governor()->steps_one()),
                 static_cast<long long>(sim->thread_governor()->steps_max()), sim->thread_governor()->max_threads());
@@ -578,11 +666,33 @@ int main(int argc, char** argv) {
   std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
   std::printf("wall_seconds: %.3f\n", wall);
   std::printf("cpu_seconds: %.3f\n", cpu);
+  if (alternating) {
+    for (const auto& turn : turns)
+      std::printf("us_per_particle_step_threads_%d: %.4f (%lld steps)\n", turn.threads, turn.cost() * 1e6, turn.steps);
+    std::printf("alternate_speedup: %.3f (median of %zu pairs of blocks; quartiles %.3f %.3f)\n",
+                vt::bench::quantile(turn_ratios, 0.5), turn_ratios.size(), vt::bench::quantile(turn_ratios, 0.25),
+                vt::bench::quantile(turn_ratios, 0.75));
+  }
+  if (paired) {
+    std::vector<double> inverse;
+    for (double r : turn_ratios) inverse.push_back(1.0 / r);
+    std::printf("pair: %s tiled %dx%dx%d, %zu particles, %s, %lld steps in blocks of %lld\n",
+                (pair_sample.empty() ? sample : pair_sample).c_str(), pair_tile[0], pair_tile[1], pair_tile[2],
+                pair_sim->particles().size(), pair_sim->particles().has_spheroids() ? "spheroids" : "spheres",
+                turns[1].steps, turns[1].block);
+    std::printf("pair_start: void_ratio %.4f contacts_per_particle %.3f mean_stress_pa %.1f\n", pair_m0.void_ratio,
+                static_cast<double>(pair_m0.contacts) / static_cast<double>(pair_sim->particles().size()), pair_m0.p);
+    std::printf("us_per_particle_step_pair: %.4f\n", turns[1].cost() * 1e6);
+    std::printf("pair_cost_ratio: %.3f (median of %zu pairs of blocks; quartiles %.3f %.3f)\n",
+                vt::bench::quantile(inverse, 0.5), inverse.size(), vt::bench::quantile(inverse, 0.25),
+                vt::bench::quantile(inverse, 0.75));
+  }
   // where the time went (phase_times.h): per thread, seconds in each phase
   // of the timed steps and the rest of the two parallel regions (waits)
-  std::printf("region_seconds: forces %.6f integration %.6f\n", phases.region(PhaseTimes::ForceRegion),
-              phases.region(PhaseTimes::IntegrationRegion));
-  for (int t = 0; t < phases.threads(); ++t) {
+  if (!alternating && !paired)
+    std::printf("region_seconds: forces %.6f integration %.6f\n", phases.region(PhaseTimes::ForceRegion),
+                phases.region(PhaseTimes::IntegrationRegion));
+  for (int t = 0; t < phases.threads() && !alternating && !paired; ++t) {
     if (phases.busy(t) == 0.0) continue;  // a slot of a larger team earlier
     std::printf("phase_seconds_thread_%d:", t);
     for (int k = 0; k < PhaseTimes::kPhaseCount; ++k)
@@ -593,11 +703,14 @@ int main(int argc, char** argv) {
   // the team's mean waits = imbalance + overhead over both regions; steady:
   // the part of the imbalance a better fixed cut would recover
   for (const auto r : {PhaseTimes::ForceRegion, PhaseTimes::IntegrationRegion})
-    std::printf("region_waits_%s: imbalance %.6f steady %.6f overhead %.6f\n",
+    if (!alternating && !paired)
+      std::printf("region_waits_%s: imbalance %.6f steady %.6f overhead %.6f\n",
                 r == PhaseTimes::ForceRegion ? "forces" : "integration", phases.imbalance(r),
                 phases.steady_imbalance(r), phases.overhead(r));
   std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
   std::printf("rss_bytes_per_particle: %.0f\n", rss / np);
-  std::printf("us_per_particle_step: %.4f\n", wall * 1e6 / (np * static_cast<double>(steps)));
+  // with --alternate or --pair-tile: the first turn's (wall_seconds holds both)
+  const double cost = alternating || paired ? turns[0].cost() : wall / (np * static_cast<double>(steps));
+  std::printf("us_per_particle_step: %.4f\n", cost * 1e6);
   return 0;
 }

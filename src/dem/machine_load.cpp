@@ -1,6 +1,7 @@
 #include "virtual_triaxial/dem/machine_load.h"
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <sstream>
 
@@ -63,6 +64,36 @@ std::optional<int> other_runnable_tasks() {
   const std::optional<int> all = loadavg_running(line);
   if (!all || !own) return std::nullopt;
   return std::max(0, *all - *own);
+}
+
+namespace {
+/// The first eight counters of an aggregate "cpu " line of /proc/stat.
+std::optional<std::array<unsigned long long, 8>> cpu_counters(const std::string& line) {
+  std::istringstream in(line);
+  std::string label;
+  if (!(in >> label) || label != "cpu") return std::nullopt;
+  std::array<unsigned long long, 8> c{};
+  for (auto& v : c) {
+    std::string field;
+    if (!(in >> field) || field.empty() || field.size() > 19 ||
+        !std::all_of(field.begin(), field.end(), [](char ch) { return ch >= '0' && ch <= '9'; }))
+      return std::nullopt;
+    v = std::stoull(field);
+  }
+  return c;
+}
+}  // namespace
+
+std::optional<double> steal_share(const std::string& stat_before, const std::string& stat_after) {
+  const auto b = cpu_counters(stat_before), a = cpu_counters(stat_after);
+  if (!b || !a) return std::nullopt;
+  unsigned long long total = 0;
+  for (std::size_t k = 0; k < 8; ++k) {
+    if ((*a)[k] < (*b)[k]) return std::nullopt;  // counters only grow
+    total += (*a)[k] - (*b)[k];
+  }
+  if (total == 0) return std::nullopt;
+  return static_cast<double>((*a)[7] - (*b)[7]) / static_cast<double>(total);
 }
 
 bool room_for(int threads, int others, int cpus) { return threads > 1 && others <= cpus - 2; }

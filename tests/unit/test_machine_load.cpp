@@ -29,6 +29,20 @@ TEST(MachineLoad, ReadsTheRunningCountOfLoadavg) {
   EXPECT_FALSE(loadavg_running("0.50 0.40 2/345"));
 }
 
+TEST(MachineLoad, StealShareIsTheStealOfAllTimeBetweenTwoStatLines) {
+  // 1000 jiffies pass: 600 user, 100 system, 200 idle, 100 steal (guest is not added again)
+  const std::string before = "cpu  1000 0 500 8000 10 0 5 50 0 0";
+  const std::string after = "cpu  1600 0 600 8200 10 0 5 150 600 0";
+  ASSERT_TRUE(steal_share(before, after));
+  EXPECT_DOUBLE_EQ(*steal_share(before, after), 0.1);
+  EXPECT_DOUBLE_EQ(*steal_share(before, "cpu  1600 0 600 8200 10 0 5 50"), 0.0);
+  EXPECT_FALSE(steal_share(before, before));                        // no time passed
+  EXPECT_FALSE(steal_share(after, before));                         // counters went back
+  EXPECT_FALSE(steal_share("cpu0 1000 0 500 8000 10 0 5 50", after));  // a per-CPU line
+  EXPECT_FALSE(steal_share(before, "cpu  1600 0 600 8200 10 0 5"));    // steal missing
+  EXPECT_FALSE(steal_share(before, "cpu  1600 0 x 8200 10 0 5 150"));
+}
+
 TEST(MachineLoad, ReadsTheStateAfterTheCommand) {
   EXPECT_EQ(task_state("4242 (triax_bench) R 1 4242 4242 0 -1"), 'R');
   EXPECT_EQ(task_state("4243 (a) b) S 1 4242"), 'S');  // a command may hold ") "

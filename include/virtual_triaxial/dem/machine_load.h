@@ -57,6 +57,13 @@ std::optional<int> own_running_threads();
 std::optional<int> other_runnable_tasks();
 /// The rule above: room for `threads` (> 1) threads when others <= cpus - 2.
 bool room_for(int threads, int others, int cpus);
+/// The share of CPU time the hypervisor took from this machine (steal)
+/// between two aggregate /proc/stat lines ("cpu  user nice system idle
+/// iowait irq softirq steal ..."): d(steal) / d(user + nice + system + idle +
+/// iowait + irq + softirq + steal), in [0, 1]; nullopt when a line is not of
+/// that form or no time passed. A busy host shows it; bench/host_scaling
+/// prints it beside the two CPUs' scaling.
+std::optional<double> steal_share(const std::string& stat_before, const std::string& stat_after);
 /// The online CPUs when this process may run on all of them (the room is
 /// checked), else 0 (an affinity mask or cpuset: no check).
 int checked_cpus();

@@ -1,0 +1,295 @@
+// host_scaling -- how much two threads can gain over one on this machine,
+// whatever the program: the ceiling beside which issue 13's "two threads
+// >= 1.8x one" is read (bench/two_thread_ceiling.sh runs it beside ours).
+//
+//   host_scaling [--rounds R] [--seconds S]
+//
+// Each round times six kernels, each as one thread alone on CPU 0, alone
+// on CPU 1, then as two threads together (one pinned to each CPU, started
+// at one barrier), every thread doing the same fixed work:
+//   compute  16 independent multiply-add chains in registers (no memory);
+//   sync     the same work in slices of 300 us with a spinning barrier
+//            (PAUSE in its loop, as libgomp's) after each: two per step,
+//            as the DEM step at 12 000 spheres on two threads. Together,
+//            each slice waits for the slower thread, so a vCPU held up for
+//            a moment holds up both;
+//   syncnp   the same with a barrier that spins without PAUSE (so without
+//            the hypervisor's pause-loop exits);
+//   syncblk  the same with a barrier that waits asleep (pthread barrier: a
+//            futex, the vCPU halts), as OpenMP threads do after their spin;
+//   cache    v = 0.5 v + 1 over a private 6 MiB buffer per thread (both
+//            together 12 MiB: in the shared 32 MiB L3, not in a 1 MiB L2,
+//            like the 12 000-sphere step's data);
+//   memory   the same over 96 MiB per thread (main memory).
+// For a kernel, with t_solo0, t_solo1 the solo times and t_0, t_1 the
+// two threads' times together, the host's speed-up of a job split evenly
+// over two threads is
+//   S = (t_solo0 + t_solo1) / max(t_0, t_1)                (dimensionless)
+// (2 when the two CPUs run together as fast as alone; 1 when they share
+// one core or the hypervisor runs only one of them at a time). Each line
+// also prints the slow-downs t_0 / t_solo0 and t_1 / t_solo1 and the share
+// of the kernel's time the hypervisor took from this VM (steal, /proc/stat:
+// vt::dem::steal_share; -1 when unreadable).
+//
+// Output: one line per round and kernel, then the medians of S per kernel.
+// The work per kernel is sized once, so a solo compute, cache or memory run
+// takes about S seconds (default 0.15; the sync kernels about twice that, in
+// slices of 300 us).
+// Both CPUs must be available to this process (taskset).
+//
+// Measured on this 2-vCPU VM (session 23, rounds of 0.1 s;
+// bench/results/2026-12-03-s23/host_scaling_*.txt): compute S 1.82-2.05 in
+// 102 rounds; sync and syncnp median 1.96-1.99 and syncblk 1.81, but in a
+// few windows the two threads ran one after the other, S 0.98-1.05 (each
+// thread about twice as slow together as alone): sync and syncnp 1 each
+// of 102, syncblk 4 of 52 (and S below 1.6 in 3, 3 and 5); cache 1.03-2.59;
+// memory 0.94-2.14. So barrier-coupled work on two vCPUs here loses whole
+// windows to the host's placement of the two vCPUs, whatever the program
+// and the barrier; uncoupled work did not.
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "virtual_triaxial/dem/machine_load.h"
+#include "quantile.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The sync kernel's slice between barriers [s]: two barriers in a
+/// 600 us step, as two threads take 12 000 spheres.
+constexpr double kSliceSeconds = 300e-6;
+
+/// Volatile sink so the kernels' results are used.
+struct Sink {
+  volatile double value = 0.0;
+};
+
+/// compute: 16 chains x = x m + c, `reps` times; returns their sum.
+double compute_kernel(long reps) {
+  double x[16];
+  for (int k = 0; k < 16; ++k) x[k] = 1.0 + 1e-3 * k;
+  const double m = 0.999999, c = 1e-7;
+  for (long r = 0; r < reps; ++r) {
+    for (int k = 0; k < 16; ++k) x[k] = x[k] * m + c;
+  }
+  double s = 0.0;
+  for (double v : x) s += v;
+  return s;
+}
+
+/// cache / memory: v = 0.5 v + 1 over buf[0, n) `reps` times; returns a sum.
+double stream_kernel(double* buf, std::size_t n, long reps) {
+  double s = 0.0;
+  for (long r = 0; r < reps; ++r) {
+    for (std::size_t i = 0; i < n; ++i) buf[i] = 0.5 * buf[i] + 1.0;
+    s += buf[static_cast<std::size_t>(r) % n];
+  }
+  return s;
+}
+
+bool pin_to(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  return pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
+}
+
+/// A barrier whose waiters spin (as OpenMP threads do at first).
+class SpinBarrier {
+ public:
+  SpinBarrier(int parties, bool pause, bool block) : parties_(parties), pause_(pause), block_(block) {
+    pthread_barrier_init(&sleeping_, nullptr, static_cast<unsigned>(parties));
+  }
+  ~SpinBarrier() { pthread_barrier_destroy(&sleeping_); }
+  void wait() {
+    if (block_) {
+      pthread_barrier_wait(&sleeping_);
+      return;
+    }
+    const int gen = generation_.load(std::memory_order_acquire);
+    if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == parties_) {
+      arrived_.store(0, std::memory_order_relaxed);
+      generation_.fetch_add(1, std::memory_order_acq_rel);
+      return;
+    }
+    while (generation_.load(std::memory_order_acquire) == gen)
+      if (pause_) __builtin_ia32_pause();
+  }
+
+ private:
+  const int parties_;
+  const bool pause_;
+  const bool block_;  // wait asleep (pthread barrier, a futex) instead of spinning
+  pthread_barrier_t sleeping_;
+  std::atomic<int> arrived_{0};
+  std::atomic<int> generation_{0};
+};
+
+/// One kernel's work: run() does it once on the calling thread, on the
+/// first `doubles` of a thread's buffer; `slices` > 0: the compute work in
+/// that many slices with a wait at `barrier` after each (when given).
+struct Kernel {
+  const char* name;
+  std::size_t doubles;  // buffer per thread (0: compute)
+  long reps = 1;
+  long slices = 0;
+  bool pause = true;   // the barrier's spin loop uses the PAUSE instruction
+  bool block = false;  // the barrier waits asleep
+  double run(std::vector<double>& buf, SpinBarrier* barrier) const {
+    if (doubles > 0) return stream_kernel(buf.data(), doubles, reps);
+    if (slices == 0) return compute_kernel(reps);
+    double s = 0.0;
+    for (long k = 0; k < slices; ++k) {
+      s += compute_kernel(reps / slices);
+      if (barrier) barrier->wait();
+    }
+    return s;
+  }
+};
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Solo time on `cpu`, or a negative value when the CPU cannot be used.
+double solo(const Kernel& k, int cpu, std::vector<double>& buf, Sink& sink) {
+  double t = -1.0;
+  std::thread th([&] {
+    if (!pin_to(cpu)) return;
+    const auto t0 = Clock::now();
+    sink.value = sink.value + k.run(buf, nullptr);
+    t = seconds_since(t0);
+  });
+  th.join();
+  return t;
+}
+
+/// Both threads' times together (each pinned, released at once).
+void together(const Kernel& k, std::vector<double>& buf0, std::vector<double>& buf1, Sink& sink, double& t0,
+              double& t1) {
+  pthread_barrier_t start;
+  pthread_barrier_init(&start, nullptr, 2);
+  SpinBarrier slices(2, k.pause, k.block);
+  double r0 = 0.0, r1 = 0.0;
+  const auto body = [&](int cpu, std::vector<double>& buf, double& t, double& r) {
+    pin_to(cpu);
+    pthread_barrier_wait(&start);
+    const auto s = Clock::now();
+    r = k.run(buf, &slices);
+    t = seconds_since(s);
+  };
+  std::thread a(body, 0, std::ref(buf0), std::ref(t0), std::ref(r0));
+  std::thread b(body, 1, std::ref(buf1), std::ref(t1), std::ref(r1));
+  a.join();
+  b.join();
+  pthread_barrier_destroy(&start);
+  sink.value = sink.value + r0 + r1;
+}
+
+std::string read_stat_cpu_line() {
+  std::ifstream f("/proc/stat");
+  std::string line;
+  std::getline(f, line);
+  return line;
+}
+
+int usage(const char* why) {
+  std::fprintf(stderr, "host_scaling: %s\nusage: host_scaling [--rounds R] [--seconds S]\n", why);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int rounds = 10;
+  double seconds = 0.15;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if ((arg == "--rounds" || arg == "--seconds") && a + 1 < argc) {
+      char* end = nullptr;
+      const double v = std::strtod(argv[++a], &end);
+      if (*end != '\0' || !(v > 0.0)) return usage((arg + " must be a positive number").c_str());
+      if (arg == "--rounds") {
+        if (v != static_cast<int>(v)) return usage("--rounds must be a whole number");
+        rounds = static_cast<int>(v);
+      } else {
+        seconds = v;
+      }
+    } else {
+      return usage(("unknown argument '" + arg + "'").c_str());
+    }
+  }
+  if (std::thread::hardware_concurrency() < 2) return usage("needs two CPUs");
+
+  std::vector<Kernel> kernels{{"compute", 0},
+                              {"sync", 0},
+                              {"syncnp", 0},
+                              {"syncblk", 0},
+                              {"cache", (6u << 20) / sizeof(double)},
+                              {"memory", (96u << 20) / sizeof(double)}};
+  std::vector<double> buf0((96u << 20) / sizeof(double), 1.0), buf1(buf0.size(), 1.0);
+  Sink sink;
+  // Size each kernel's work to about `seconds` alone on CPU 0.
+  for (Kernel& k : kernels) {
+    k.reps = 1;
+    for (;;) {
+      const double t = solo(k, 0, buf0, sink);
+      if (t < 0.0) return usage("cannot run on CPU 0 (taskset?)");
+      if (t >= 0.02) {
+        k.reps = std::max<long>(1, static_cast<long>(k.reps * seconds / t));
+        break;
+      }
+      k.reps *= 4;
+    }
+  }
+  // sync: the compute work in slices of about kSliceSeconds
+  for (int ks : {1, 2, 3}) {
+    Kernel& sync = kernels[static_cast<std::size_t>(ks)];
+    sync.pause = ks == 1;
+    sync.block = ks == 3;
+    sync.reps = kernels[0].reps;
+    sync.slices = std::max(1L, static_cast<long>(seconds / kSliceSeconds));
+    sync.reps -= sync.reps % sync.slices;
+    // a slice runs slower than its share of one call: slices from a timing
+    const double t = solo(sync, 0, buf0, sink);
+    sync.slices = std::max(1L, static_cast<long>(t / kSliceSeconds));
+    sync.reps -= sync.reps % sync.slices;
+  }
+
+  std::printf("# host_scaling: %d rounds; S = 2 t_solo / t_together (2 = two CPUs as fast together as alone)\n",
+              rounds);
+  std::printf("%-6s %-8s %8s %8s %8s %8s %8s %6s %7s\n", "round", "kernel", "solo0_s", "solo1_s", "tog0_s",
+              "tog1_s", "slow0/1", "S", "steal%");
+  std::vector<std::vector<double>> s_of(kernels.size());
+  for (int r = 1; r <= rounds; ++r) {
+    for (std::size_t ki = 0; ki < kernels.size(); ++ki) {
+      const Kernel& k = kernels[ki];
+      const std::string stat0 = read_stat_cpu_line();
+      const double s0 = solo(k, 0, buf0, sink);
+      const double s1 = solo(k, 1, buf1, sink);
+      if (s0 < 0.0 || s1 < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+      double t0 = 0.0, t1 = 0.0;
+      together(k, buf0, buf1, sink, t0, t1);
+      const std::optional<double> steal = vt::dem::steal_share(stat0, read_stat_cpu_line());
+      const double scaling = (s0 + s1) / std::max(t0, t1);
+      s_of[ki].push_back(scaling);
+      std::printf("%-6d %-8s %8.4f %8.4f %8.4f %8.4f %4.2f/%4.2f %6.3f %7.2f\n", r, k.name, s0, s1, t0, t1, t0 / s0,
+                  t1 / s1, scaling, steal ? 100.0 * *steal : -1.0);
+    }
+    std::fflush(stdout);
+  }
+  for (std::size_t ki = 0; ki < kernels.size(); ++ki)
+    std::printf("median_S_%s: %.3f\n", kernels[ki].name, vt::bench::quantile(s_of[ki], 0.5));
+  return sink.value == 12345.678 ? 1 : 0;
+}

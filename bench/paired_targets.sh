@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Issue 13's ratio targets measured in turns inside one process
+# (triax_bench --alternate / --pair-tile, bench/block_turns.h), so that the
+# host's drift over seconds hits both sides of each ratio alike; whole runs
+# interleaved in rounds (bench/run_matrix.sh) leave the ratio to the drift
+# between runs, which on this VM moves one thread's cost by +-25 %.
+# Each round runs six cases and prints each one's median over its pairs of
+# blocks (quartiles in brackets):
+#   two / one thread     12 000 spheres (3x2x2) and 10^5 (5x5x4)
+#   x_N1                 10^5 against 12 000 spheres, one thread and two
+#   spheroid / sphere    12 000 (3x2x2) each, one thread and two
+# then the medians over the rounds. Samples: config/samples/dense_1000.h5
+# and dense_1000_spheroid.h5, Morton-sorted; the state beside the figures
+# is that of bench/run_matrix.sh (same samples, same shear; STEPS below).
+#
+#   bench/paired_targets.sh ROUNDS
+#   STEPS=1000 BLOCK=200 STEPS_1E5=600 BLOCK_1E5=100 bench/paired_targets.sh 5
+# STEPS: steps of each side at 12 000 and of x_N1 (default 1000, as the
+# matrix), in turns of BLOCK steps (default 200); STEPS_1E5: of two / one
+# thread at 10^5 (default 600), in turns of BLOCK_1E5 (default 100). Short
+# turns bias the ratios: a switch to two threads costs about 1.6 ms (the
+# threads' runs re-cut, thread_runs.h), and a 12 000-particle turn after a
+# 10^5 one starts with its data out of the caches (20-step turns gave two /
+# one 1.21 and x_N1 on two threads 0.85).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+# shellcheck source=median.sh
+source bench/median.sh
+if ! (($# == 1)) || ! [[ "$1" =~ ^[1-9][0-9]*$ ]]; then
+  awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0" >&2
+  exit 2
+fi
+R=$1
+BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
+STEPS="${STEPS:-1000}"; STEPS_1E5="${STEPS_1E5:-600}"; BLOCK="${BLOCK:-200}"; BLOCK_1E5="${BLOCK_1E5:-100}"
+for v in STEPS STEPS_1E5 BLOCK BLOCK_1E5; do
+  [[ "${!v}" =~ ^[1-9][0-9]*$ ]] || { echo "paired_targets: ${v} must be a whole number >= 1, not '${!v}'" >&2; exit 2; }
+done
+[[ -x "${BIN}" ]] || { echo "paired_targets: ${BIN} not built" >&2; exit 2; }
+SPH=config/samples/dense_1000.h5
+SPD=config/samples/dense_1000_spheroid.h5
+cases=("two/one 12000" "two/one 1e5" "x_N1 one" "x_N1 two" "spheroid/sphere one" "spheroid/sphere two")
+args=("--tile 3x2x2 --alternate 1,2 --steps ${STEPS}"
+      "--tile 5x5x4 --alternate 1,2 --steps ${STEPS_1E5} --block ${BLOCK_1E5}"
+      "--tile 3x2x2 --threads 1 --pair-tile 5x5x4 --steps ${STEPS}"
+      "--tile 3x2x2 --threads 2 --pair-tile 5x5x4 --steps ${STEPS}"
+      "--tile 3x2x2 --threads 1 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}"
+      "--tile 3x2x2 --threads 2 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}")
+echo "# $(date -u '+%F %H:%M UTC'), ${R} rounds, turns of ${BLOCK} steps (two / one at 10^5: ${BLOCK_1E5}), load average $(cut -d' ' -f1-3 /proc/loadavg)"
+declare -A med
+for ((r = 1; r <= R; ++r)); do
+  line="round ${r}:"
+  for k in "${!cases[@]}"; do
+    # shellcheck disable=SC2086
+    out="$("${BIN}" --sample "${SPH}" --sort-sample --block "${BLOCK}" ${args[k]} 2>/dev/null)" ||
+      { echo "paired_targets: triax_bench failed on '${cases[k]}'" >&2; exit 1; }
+    v="$(awk '/^(alternate_speedup|pair_cost_ratio):/ { printf "%s %s %s", $2, $10, $11 }' <<<"${out}" | tr -d ')')"
+    read -r m q1 q3 <<<"${v}"
+    [[ -n "${m}" ]] || { echo "paired_targets: no ratio from '${cases[k]}'" >&2; exit 1; }
+    med[${k}]+="${m} "
+    line+="  ${cases[k]} ${m} (${q1}-${q3})"
+  done
+  echo "${line}"
+done
+echo "medians over ${R} rounds:"
+for k in "${!cases[@]}"; do
+  # shellcheck disable=SC2086
+  printf '  %-20s %s\n' "${cases[k]}" "$(median_of ${med[${k}]})"
+done

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Two threads against one, beside what this host gives two threads of any
+# program (bench/host_scaling.cpp), in the same interleaved rounds: each
+# round runs host_scaling once (compute, sync, cache and memory kernels:
+# S = 2 t_solo / t_together), then triax_bench on one thread and on two on
+# the tiled sample. Prints per round the host's S of each kernel, the
+# steal share, ours (one-thread / two-thread cost) and ours / S_sync, then
+# the medians. S_sync is the ceiling of a program that, like the DEM step,
+# meets at a barrier every 300 us and loads neither cache nor memory; ours
+# falls further below it by what the step adds (barriers' own cost, the
+# completions of sums, shared cache and memory traffic).
+#
+#   bench/two_thread_ceiling.sh ROUNDS TILE STEPS [SAMPLE]
+#   bench/two_thread_ceiling.sh 10 3x2x2 2000          # 12 000 dense spheres
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+# shellcheck source=tile_rounds.sh
+source bench/tile_rounds.sh
+tile_rounds two_thread_ceiling "$@"
+# shellcheck source=median.sh
+source bench/median.sh
+HOST="${HOST:-$(dirname "${BIN}")/host_scaling}"
+[[ -x "${HOST}" ]] || { echo "two_thread_ceiling: ${HOST} not built" >&2; exit 2; }
+cost() {
+  "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads "$1" --steps "${STEPS}" 2>/dev/null |
+    awk '/^us_per_particle_step:/ { print $2 }'
+}
+echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, Morton-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' round S_compute S_sync S_cache S_memory steal% one_us two_us ours ours/S_s
+sc=(); sy=(); sa=(); sm=(); ou=(); rel=()
+for ((r = 1; r <= R; ++r)); do
+  host="$("${HOST}" --rounds 1 --seconds 0.1)"
+  s_of() { awk -v k="$1" '$2 == k { print $(NF - 1) }' <<<"${host}"; }
+  steal="$(awk '$1 ~ /^[0-9]+$/ { s += $NF; n++ } END { printf "%.2f", s / n }' <<<"${host}")"
+  c="$(s_of compute)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
+  one="$(cost 1)"; two="$(cost 2)"
+  [[ -n "${one}" && -n "${two}" && -n "${y}" ]] || { echo "two_thread_ceiling: a run failed" >&2; exit 1; }
+  ours="$(awk -v a="${one}" -v b="${two}" 'BEGIN { printf "%.3f", a / b }')"
+  ratio="$(awk -v o="${ours}" -v s="${y}" 'BEGIN { printf "%.3f", o / s }')"
+  printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' "${r}" "${c}" "${y}" "${a}" "${m}" "${steal}" "${one}" "${two}" \
+    "${ours}" "${ratio}"
+  sc+=("${c}"); sy+=("${y}"); sa+=("${a}"); sm+=("${m}"); ou+=("${ours}"); rel+=("${ratio}")
+done
+printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' median "$(median_of "${sc[@]}")" "$(median_of "${sy[@]}")" \
+  "$(median_of "${sa[@]}")" "$(median_of "${sm[@]}")" "" "" "" "$(median_of "${ou[@]}")" "$(median_of "${rel[@]}")"
