@@ -53,6 +53,17 @@ ASPECT="${ASPECT:-1.2}"
 # packing state; triax_bench's own default, 3e7/N steps, shears the small
 # samples much further).
 STEPS="${STEPS:-1000}"
+# COST=median_step: each run's median step / N (triax_bench's
+# us_per_particle_step_median_step: the cost outside the spells where the
+# host runs two threads one after the other) instead of its mean; the
+# column "slow" then sums the runs' slow_windows (200-step windows whose
+# median step exceeds 1.5x the run's). RAW_DIR=DIR keeps every run's output.
+COST="${COST:-mean}"
+case "${COST}" in
+  mean) COST=us_per_particle_step ;;
+  median_step) COST=us_per_particle_step_median_step ;;
+  *) echo "run_matrix: COST must be mean or median_step, not '${COST}'" >&2; exit 2 ;;
+esac
 SORT="${SORT:-1}"
 
 [[ -x "${BIN}" ]] || { echo "run_matrix: ${BIN} not built (vt_ensure_built all)" >&2; exit 1; }
@@ -106,11 +117,14 @@ vcpu_speeds() {
 
 list="${TILES}"; [[ "${LOOSE}" == 1 ]] && { list="${SIZES}"; mkdir -p "${CACHE_DIR}"; }
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
+# RAW_DIR: keep every run's triax_bench output there (SIZE_T_SHAPE_ROUND)
+if [[ -n "${RAW_DIR:-}" ]]; then mkdir -p "${RAW_DIR}"; trap 'cp "${work}"/* "${RAW_DIR}"/ 2>/dev/null; rm -rf "${work}"' EXIT; fi
 echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'Morton-sorted' || echo 'as stored')")"
 echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
 
-printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %s\n' \
-  size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph x_N1 idle/load
+echo "# cost per particle-step: ${COST}"
+printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %-10s %s\n' \
+  size N T shape us_median us_min us_max e contacts/p p_kPa bytes/p x_1T x_sph x_N1 idle/load slow
 if [[ "${LOOSE}" == 1 ]]; then  # prepare (or load) once, untimed
   for s in ${list}; do
     for shape in ${SHAPES}; do case_args "${shape}" "${s}"; "${BIN}" "${args[@]}" --threads 1 --steps 1 "$@" >/dev/null 2>&1; done
@@ -131,12 +145,16 @@ for ((r = 0; r < REPEATS; ++r)); do
     done
   done
 done
-us() { for ((r = 0; r < REPEATS; ++r)); do value us_per_particle_step "${work}/$1_$2_$3_${r}"; done; }
+us() { for ((r = 0; r < REPEATS; ++r)); do value "${COST}" "${work}/$1_$2_$3_${r}"; done; }
 ratio() {  # SIZE_A T_A SHAPE_A SIZE_B T_B SHAPE_B: median over rounds of (case a) / (case b)
   for ((r = 0; r < REPEATS; ++r)); do
-    awk -v a="$(value us_per_particle_step "${work}/$1_$2_$3_${r}")" \
-        -v b="$(value us_per_particle_step "${work}/$4_$5_$6_${r}")" 'BEGIN { printf "%.4f\n", a / b }'
+    awk -v a="$(value "${COST}" "${work}/$1_$2_$3_${r}")" \
+        -v b="$(value "${COST}" "${work}/$4_$5_$6_${r}")" 'BEGIN { printf "%.4f\n", a / b }'
   done | median
+}
+slow() {  # SIZE T SHAPE: the rounds' slow windows summed, "slow/windows"
+  for ((r = 0; r < REPEATS; ++r)); do value slow_windows "${work}/$1_$2_$3_${r}"; done |
+    awk '{ s += $1; w += $3 } END { printf "%d/%d", s, w }'
 }
 first="$(echo ${THREADS} | cut -d' ' -f1)"
 first_size="$(echo ${list} | cut -d' ' -f1)"
@@ -147,12 +165,13 @@ for s in ${list}; do
       x1="-"; [[ "${t}" != "${first}" ]] && x1="$(ratio "${s}" "${first}" "${shape}" "${s}" "${t}" "${shape}")"
       xs="-"; [[ "${shape}" != sphere && " ${SHAPES} " == *" sphere "* ]] && xs="$(ratio "${s}" "${t}" "${shape}" "${s}" "${t}" sphere)"
       xn="-"; [[ "${s}" != "${first_size}" ]] && xn="$(ratio "${s}" "${t}" "${shape}" "${first_size}" "${t}" "${shape}")"
-      printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %s\n' \
+      printf '%-8s %-7s %-3s %-9s %-9s %-9s %-9s %-8s %-9s %-9s %-9s %-8s %-7s %-7s %-10s %s\n' \
         "${s}" "$(value particles "${f}")" "${t}" "${shape}" "$(us "${s}" "${t}" "${shape}" | median)" \
         "$(us "${s}" "${t}" "${shape}" | sort -g | head -1)" "$(us "${s}" "${t}" "${shape}" | sort -g | tail -1)" \
         "$(value void_ratio_start "${f}")" "$(value contacts_per_particle_start "${f}")" \
         "$(awk -v p="$(value mean_stress_pa_start "${f}")" -v q="$(value mean_stress_pa "${f}")" 'BEGIN { printf "%.0f-%.0f", p / 1e3, q / 1e3 }')" \
-        "$(value rss_bytes_per_particle "${f}")" "${x1}" "${xs}" "${xn}" "$(cat "${f}.idle")"
+        "$(value rss_bytes_per_particle "${f}")" "${x1}" "${xs}" "${xn}" "$(cat "${f}.idle")" \
+        "$(slow "${s}" "${t}" "${shape}")"
     done
   done
 done

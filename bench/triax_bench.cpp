@@ -92,6 +92,12 @@
 //   spinning OpenMP threads count), a cross-check when the machine is shared.
 //   peak_rss_mb = VmHWM, the high-water mark over the whole run (preparation,
 //   cloud generation and neighbour-list rebuilds included).
+//   step_us (median, quantiles and max of the timed steps' wall times [us]),
+//   slow_windows (200-step windows whose median step exceeds 1.5x the
+//   run's: on this VM, spells where the host ran two threads one after the
+//   other) and us_per_particle_step_median_step (the median step / N: the
+//   cost outside such spells and the rare rebuild steps); not with
+//   --alternate or --pair-tile.
 //   state_fingerprint: FNV-1a hash of the final positions, velocities, spins
 //   and contact springs; equal fingerprints mean bit-identical states (it does
 //   not depend on the thread count; it does on --no-sort, --steps and --seed).
@@ -266,6 +272,31 @@ bool run_measured(Simulation& sim, int n) {
 [[noreturn]] void die(const Simulation& sim) {
   std::cerr << "triax_bench: simulation became unstable: " << sim.failure() << "\n";
   std::exit(1);
+}
+
+// ---- the timed steps one by one ---------------------------------------------------
+// On this 2-vCPU VM two barrier-coupled threads now and then run one after
+// the other for a while (bench/host_scaling: S about 1 in some windows,
+// for any program); such windows show as runs of steps about twice as
+// long. The median step is the cost outside them; slow_windows counts them.
+constexpr std::size_t kEpisodeWindow = 200;  // steps
+constexpr double kEpisodeFactor = 1.5;       // a window's median over the run's
+
+struct StepEpisodes {
+  double median = 0.0;  // the run's median step [us]
+  int windows = 0;      // whole windows of kEpisodeWindow steps
+  int slow = 0;         // those whose median exceeds factor x median
+};
+
+StepEpisodes step_episodes(const std::vector<double>& step_us, std::size_t window, double factor) {
+  StepEpisodes ep;
+  ep.median = vt::bench::quantile(step_us, 0.5);
+  for (std::size_t i = 0; i + window <= step_us.size(); i += window) {
+    ++ep.windows;
+    const std::vector<double> w(step_us.begin() + static_cast<long>(i), step_us.begin() + static_cast<long>(i + window));
+    if (vt::bench::quantile(w, 0.5) > factor * ep.median) ++ep.slow;
+  }
+  return ep;
 }
 
 // ---- prepared-sample cache (--cache DIR) -------------------------------------
@@ -603,13 +634,18 @@ int main(int argc, char** argv) {
   // --alternate: one simulation on two thread counts; --pair-tile: two simulations
   vt::bench::Turn turns[2];
   std::vector<double> turn_ratios;
+  std::vector<double> step_us;  // each timed step's wall time [us] (one count, one simulation)
   if (alternating || paired) {
     turns[0] = {sim.get(), static_cast<int>(threads), block};
     turns[1] = {paired ? pair_sim.get() : sim.get(), static_cast<int>(paired ? threads : alternate[1]), block};
     turn_ratios = vt::bench::run_turns(turns, steps, [](const Simulation& s) { die(s); });
   } else {
-    for (long long k = 0; k < steps; ++k)
+    step_us.reserve(static_cast<std::size_t>(steps));
+    for (long long k = 0; k < steps; ++k) {
+      const auto t_step = Clock::now();
       if (!sim->step(false)) die(*sim);
+      step_us.push_back(1e6 * seconds_since(t_step));
+    }
   }
   const double wall = seconds_since(t_run);
   const PhaseTimes phases = sim->phase_times();  // of the timed steps only
@@ -709,6 +745,15 @@ int main(int argc, char** argv) {
                 phases.steady_imbalance(r), phases.overhead(r));
   std::printf("peak_rss_mb: %.1f\n", hwm / (1024.0 * 1024.0));
   std::printf("rss_bytes_per_particle: %.0f\n", rss / np);
+  if (!step_us.empty()) {
+    const StepEpisodes ep = step_episodes(step_us, kEpisodeWindow, kEpisodeFactor);
+    std::printf("step_us: median %.1f p10 %.1f p90 %.1f p99 %.1f max %.1f\n", ep.median,
+                vt::bench::quantile(step_us, 0.1), vt::bench::quantile(step_us, 0.9), vt::bench::quantile(step_us, 0.99),
+                vt::bench::quantile(step_us, 1.0));
+    std::printf("slow_windows: %d of %d (%lld-step windows with a median step above %.1fx the run's)\n", ep.slow,
+                ep.windows, static_cast<long long>(kEpisodeWindow), kEpisodeFactor);
+    std::printf("us_per_particle_step_median_step: %.4f\n", ep.median / np);
+  }
   // with --alternate or --pair-tile: the first turn's (wall_seconds holds both)
   const double cost = alternating || paired ? turns[0].cost() : wall / (np * static_cast<double>(steps));
   std::printf("us_per_particle_step: %.4f\n", cost * 1e6);
