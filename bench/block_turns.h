@@ -3,59 +3,61 @@
 // cases alike, which whole runs interleaved in rounds cannot ensure (on this
 // 2-vCPU VM one thread's cost moves by +-25 % between runs seconds apart).
 //
-// Turn k runs `block` steps of its simulation on `threads` threads, then
-// the other turn runs its block, and so on until turn 0 has taken `steps`
-// steps (turn 1 takes its block as often; a last, shorter block of turn 0
-// is followed by the same share of turn 1's). Per full pair of blocks the
-// cost ratio
-//   r = (t_0 / (N_0 k_0)) / (t_1 / (N_1 k_1))      (cost per particle-step)
+// Pair p of turns runs `block` steps of each turn's simulation on its
+// `threads` threads, turn 0 first in even pairs and turn 1 first in odd
+// ones (A B, B A, A B, ...: the one that goes second in a pair meets a
+// state sheared further and caches the other turn left, so the order
+// alternates), until each turn has taken `steps` steps (a last, shorter
+// pair takes what is left). Per full pair the cost ratio
+//   r = cost_0 / cost_1,  cost = t / (N k)        [s per particle-step]
 // is kept; the summary is its median and quartiles over the pairs.
 #pragma once
 
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 #include <vector>
 
 #include "virtual_triaxial/dem/simulation.h"
+#include "wall_clock.h"
 
 namespace vt::bench {
+
+/// Cost per particle-step of k steps of n particles in `seconds` [s].
+inline double particle_step_cost(double seconds, std::size_t n, long long k) {
+  return seconds / (static_cast<double>(n) * static_cast<double>(k));
+}
 
 struct Turn {
   dem::Simulation* sim = nullptr;
   int threads = 1;
-  long long block = 1;   ///< steps per turn
   double seconds = 0.0;  ///< summed over the turn's blocks
   long long steps = 0;   ///< summed over the turn's blocks
-  double cost() const {  ///< [s per particle-step]
-    return seconds / (static_cast<double>(sim->particles().size()) * static_cast<double>(steps));
-  }
+  double cost() const { return particle_step_cost(seconds, sim->particles().size(), steps); }
 };
 
 /// The turns as in the header; `fail(sim)` is called when a step fails
-/// (it must not return). Returns the pairs' cost ratios r.
+/// (it must not return). Returns the full pairs' cost ratios r.
 template <class Fail>
-std::vector<double> run_turns(Turn (&turns)[2], long long steps, Fail fail) {
-  using Clock = std::chrono::steady_clock;
+std::vector<double> run_turns(Turn (&turns)[2], long long steps, long long block, Fail fail) {
   std::vector<double> ratios;
-  for (long long done = 0; done < steps;) {
-    const long long k0 = std::min(turns[0].block, steps - done);
+  for (long long done = 0, pair = 0; done < steps; ++pair) {
+    const long long k = std::min(block, steps - done);
     double cost[2];
-    for (int t = 0; t < 2; ++t) {
+    for (int order = 0; order < 2; ++order) {
+      const int t = pair % 2 == 0 ? order : 1 - order;
       Turn& turn = turns[t];
-      const long long k = t == 0 ? k0 : std::max(1LL, turn.block * k0 / turns[0].block);
       omp_set_num_threads(turn.threads);
-      const auto t0 = Clock::now();
+      const WallClock::time_point t0 = WallClock::now();
       for (long long s = 0; s < k; ++s)
         if (!turn.sim->step(false)) fail(*turn.sim);
-      const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      const double seconds = seconds_since(t0);
       turn.seconds += seconds;
       turn.steps += k;
-      cost[t] = seconds / (static_cast<double>(turn.sim->particles().size()) * static_cast<double>(k));
+      cost[t] = particle_step_cost(seconds, turn.sim->particles().size(), k);
     }
-    if (k0 == turns[0].block) ratios.push_back(cost[0] / cost[1]);
-    done += k0;
+    if (k == block) ratios.push_back(cost[0] / cost[1]);
+    done += k;
   }
   return ratios;
 }

@@ -39,7 +39,8 @@
 //
 // Measured on this 2-vCPU VM (session 23, rounds of 0.1 s;
 // bench/results/2026-12-03-s23/host_scaling_*.txt): compute S 1.82-2.05 in
-// 102 rounds; sync and syncnp median 1.96-1.99 and syncblk 1.81, but in a
+// 102 rounds; sync and syncnp median 1.96-1.98 and syncblk 1.81 (slices
+// of 300 us; 600 us in the 50 rounds without syncblk), but in a
 // few windows the two threads ran one after the other, S 0.98-1.05 (each
 // thread about twice as slow together as alone): sync and syncnp 1 each
 // of 102, syncblk 4 of 52 (and S below 1.6 in 3, 3 and 5); cache 1.03-2.59;
@@ -63,10 +64,12 @@
 
 #include "virtual_triaxial/dem/machine_load.h"
 #include "quantile.h"
+#include "wall_clock.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Clock = vt::bench::WallClock;
+using vt::bench::seconds_since;
 
 /// The sync kernel's slice between barriers [s]: two barriers in a
 /// 600 us step, as two threads take 12 000 spheres.
@@ -160,7 +163,6 @@ struct Kernel {
   }
 };
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Solo time on `cpu`, or a negative value when the CPU cannot be used.
 double solo(const Kernel& k, int cpu, std::vector<double>& buf, Sink& sink) {
@@ -267,7 +269,8 @@ int main(int argc, char** argv) {
     sync.reps -= sync.reps % sync.slices;
   }
 
-  std::printf("# host_scaling: %d rounds; S = 2 t_solo / t_together (2 = two CPUs as fast together as alone)\n",
+  std::printf("# host_scaling: %d rounds; S = (t_solo0 + t_solo1) / max(t_0, t_1) (2: two CPUs as fast together "
+              "as alone)\n",
               rounds);
   std::printf("%-6s %-8s %8s %8s %8s %8s %8s %6s %7s\n", "round", "kernel", "solo0_s", "solo1_s", "tog0_s",
               "tog1_s", "slow0/1", "S", "steal%");

@@ -6,8 +6,9 @@ r"""Issue 13's ratios from a kept matrix, by both costs of each run.
     bench/matrix_both_costs.py DIR
 
 For each round of the matrix (DIR holds triax_bench's output of every run,
-named SIZE_THREADS_SHAPE_ROUND) prints the round's ratios -- two / one
-thread, x_N1 (5x5x4 / 3x2x2), spheroid / sphere -- and their median over the
+named SIZE_THREADS_SHAPE_ROUND, as run_matrix.sh names them) prints the
+rounds' ratios -- two / one thread, x_N1 (the largest tile over the
+smallest), spheroid / sphere -- and their median over the
 rounds, once with each run's mean cost (us_per_particle_step) and once with
 its median step (us_per_particle_step_median_step: the cost outside spells
 where the host runs two threads one after the other); then each case's
@@ -40,15 +41,18 @@ def main(argv):
         sys.exit(__doc__)
     runs = read_runs(argv[1])
     rounds = sorted({k[3] for k in runs})
-    small, large = '3x2x2', '5x5x4'
+    sizes = sorted({k[0] for k in runs}, key=lambda s: int(runs[(s, '1', 'sphere', rounds[0])]['particles']))
+    if len(sizes) < 2 or not rounds:
+        sys.exit(f'matrix_both_costs: {argv[1]} needs runs of two tiles (one thread, spheres, every round)')
+    small, large = sizes[0], sizes[-1]
     cases = {
-        'two/one 12000 sphere': ((small, '1', 'sphere'), (small, '2', 'sphere')),
-        'two/one 1e5 sphere': ((large, '1', 'sphere'), (large, '2', 'sphere')),
-        'two/one 12000 spheroid': ((small, '1', 'spheroid'), (small, '2', 'spheroid')),
+        f'two/one {small} sphere': ((small, '1', 'sphere'), (small, '2', 'sphere')),
+        f'two/one {large} sphere': ((large, '1', 'sphere'), (large, '2', 'sphere')),
+        f'two/one {small} spheroid': ((small, '1', 'spheroid'), (small, '2', 'spheroid')),
         'x_N1 one sphere': ((large, '1', 'sphere'), (small, '1', 'sphere')),
         'x_N1 two sphere': ((large, '2', 'sphere'), (small, '2', 'sphere')),
-        'spheroid/sphere one 12000': ((small, '1', 'spheroid'), (small, '1', 'sphere')),
-        'spheroid/sphere two 12000': ((small, '2', 'spheroid'), (small, '2', 'sphere')),
+        f'spheroid/sphere one {small}': ((small, '1', 'spheroid'), (small, '1', 'sphere')),
+        f'spheroid/sphere two {small}': ((small, '2', 'spheroid'), (small, '2', 'sphere')),
     }
     for key in ('us_per_particle_step', 'us_per_particle_step_median_step'):
         def cost(case, r):

@@ -10,8 +10,10 @@
 #   x_N1                 10^5 against 12 000 spheres, one thread and two
 #   spheroid / sphere    12 000 (3x2x2) each, one thread and two
 # then the medians over the rounds. Samples: config/samples/dense_1000.h5
-# and dense_1000_spheroid.h5, Morton-sorted; the state beside the figures
-# is that of bench/run_matrix.sh (same samples, same shear; STEPS below).
+# and dense_1000_spheroid.h5, Morton-sorted, the state at the start that
+# of bench/run_matrix.sh (same samples and shear rate; with --alternate
+# the one simulation shears through 2 x STEPS steps, the pairs through
+# STEPS each).
 #
 #   bench/paired_targets.sh ROUNDS
 #   STEPS=1000 BLOCK=200 STEPS_1E5=600 BLOCK_1E5=100 bench/paired_targets.sh 5
@@ -26,10 +28,9 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 # shellcheck source=median.sh
 source bench/median.sh
-if ! (($# == 1)) || ! [[ "$1" =~ ^[1-9][0-9]*$ ]]; then
-  awk 'NR > 1 && /^#/ { print; next } NR > 1 { exit }' "$0" >&2
-  exit 2
-fi
+# shellcheck source=tile_rounds.sh
+source bench/tile_rounds.sh
+if ! (($# == 1)) || ! [[ "$1" =~ ^[1-9][0-9]*$ ]]; then usage_from_header; fi
 R=$1
 BIN="${BIN:-build/devel/lib/virtual_triaxial/triax_bench}"
 STEPS="${STEPS:-1000}"; STEPS_1E5="${STEPS_1E5:-600}"; BLOCK="${BLOCK:-200}"; BLOCK_1E5="${BLOCK_1E5:-100}"

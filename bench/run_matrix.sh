@@ -55,9 +55,10 @@ ASPECT="${ASPECT:-1.2}"
 STEPS="${STEPS:-1000}"
 # COST=median_step: each run's median step / N (triax_bench's
 # us_per_particle_step_median_step: the cost outside the spells where the
-# host runs two threads one after the other) instead of its mean; the
-# column "slow" then sums the runs' slow_windows (200-step windows whose
-# median step exceeds 1.5x the run's). RAW_DIR=DIR keeps every run's output.
+# host runs two threads one after the other) instead of its mean. The
+# column "slow" (either COST) sums the runs' slow_windows (200-step windows
+# whose median step exceeds 1.5x the run's). RAW_DIR=DIR (relative to the
+# project root) keeps every run's output.
 COST="${COST:-mean}"
 case "${COST}" in
   mean) COST=us_per_particle_step ;;
@@ -118,7 +119,7 @@ vcpu_speeds() {
 list="${TILES}"; [[ "${LOOSE}" == 1 ]] && { list="${SIZES}"; mkdir -p "${CACHE_DIR}"; }
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 # RAW_DIR: keep every run's triax_bench output there (SIZE_T_SHAPE_ROUND)
-if [[ -n "${RAW_DIR:-}" ]]; then mkdir -p "${RAW_DIR}"; trap 'cp "${work}"/* "${RAW_DIR}"/ 2>/dev/null; rm -rf "${work}"' EXIT; fi
+if [[ -n "${RAW_DIR:-}" ]]; then mkdir -p "${RAW_DIR}"; trap 'cp "${work}"/* "${RAW_DIR}"/ 2>/dev/null || true; rm -rf "${work}"' EXIT; fi
 echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'Morton-sorted' || echo 'as stored')")"
 echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
 

@@ -5,6 +5,9 @@
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
 //               [--no-sleep] [--sums auto|pair-loop|gather]
 //   triax_bench --sample FILE [--tile KxKyKz] --threads T [...]
+//   triax_bench --sample FILE [--tile KxKyKz] --alternate A,B [--block K] [...]
+//   triax_bench --sample FILE [--tile KxKyKz] --threads T --pair-tile KxKyKz
+//               [--pair-sample FILE] [--block K] [...]
 //
 // --sample FILE (issue 13, the default of bench/run_matrix.sh): time a
 // prepared sample file (e.g. config/samples/dense_1000.h5, e 0.61, 5.3
@@ -54,8 +57,9 @@
 // same fingerprint, for A/B); the output says which one ran (sums_in).
 // --alternate A,B [--block K] (instead of --threads): one simulation runs
 // on A threads and on B threads in turn, K steps at a time (default 200),
-// S steps on each count (so it advances 2S; the results do not depend on
-// the thread count, so the fingerprint is that of 2S steps), so a
+// S steps on each count (so it advances 2S, which rebuilds_during_timing
+// and the spheroid counts cover; the results do not depend on the thread
+// count, so the fingerprint is that of 2S steps), so a
 // drift of the host's speed hits both counts alike (block_turns.h). A
 // switch of thread count remakes the threads' runs (thread_runs.h: equal
 // runs, re-cut after 20 steps) and the split of the sums (split_sums.h),
@@ -66,8 +70,8 @@
 // --pair-tile KxKyKz [--pair-sample FILE] [--block K] (with --sample): a
 // second simulation, of FILE (default the same sample) tiled KxKyKz and
 // stored in the same order, set up and warmed up alike, runs in turn with
-// the first on the same threads, K steps of the first, then K of the
-// second (block_turns.h; the same steps, so both are sheared alike: the
+// the first on the same threads, K steps of each per turn, the order
+// alternating (block_turns.h; the same steps, so both are sheared alike: the
 // cost falls as the timing shears, e.g. spheroid contacts per particle
 // from 3.7 to 2.8 in 600 steps); prints
 // us_per_particle_step_pair and pair_cost_ratio: the median (quartiles)
@@ -128,12 +132,14 @@
 #include "virtual_triaxial/io/sample_file.h"
 #include "block_turns.h"
 #include "quantile.h"
+#include "wall_clock.h"
 
 using namespace vt::dem;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Clock = vt::bench::WallClock;
+using vt::bench::seconds_since;
 
 constexpr double kTargetPressure = 100e3;  // [Pa]
 constexpr double kDamping = 0.02;          // OD damping ratio, preparation and shear
@@ -210,9 +216,6 @@ bool parse_tile(const char* s, int out[3]) {
   return true;
 }
 
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 struct Fnv {
   std::uint64_t h = 1469598103934665603ULL;
@@ -436,6 +439,7 @@ int main(int argc, char** argv) {
   double aspect = 1.2;
   long long alternate[2] = {0, 0};  // --alternate A,B: thread counts taken in turn
   long long block = 200;            // --block: steps per turn
+  bool block_given = false;
   int pair_tile[3] = {0, 0, 0};     // --pair-tile: a second simulation timed in turn
   std::string pair_sample;          // --pair-sample: its sample (default --sample)
   std::string sample;
@@ -466,6 +470,7 @@ int main(int argc, char** argv) {
       ++a;
     } else if (k == "--block") {
       if (!parse_int(v, 1, block)) return usage("--block needs an integer >= 1");
+      block_given = true;
       ++a;
     } else if (k == "--steps") {
       if (!parse_int(v, 1, steps)) return usage("--steps needs an integer >= 1");
@@ -539,13 +544,18 @@ int main(int argc, char** argv) {
   }
   const bool alternating = alternate[0] > 0;
   const bool paired = pair_tile[0] > 0;
+  const bool in_turns = alternating || paired;
   if (alternating && threads >= 0) return usage("--alternate and --threads exclude each other");
   if (paired && (sample.empty() || alternating)) return usage("--pair-tile needs --sample and excludes --alternate");
   if (paired && threads == 0) return usage("--pair-tile needs a thread count, not auto");
   if (!pair_sample.empty() && !paired) return usage("--pair-sample needs --pair-tile");
+  if (block_given && !in_turns) return usage("--block needs --alternate or --pair-tile");
+  if (paired && skin_ratio > 0.0) return usage("--skin-ratio and --pair-tile exclude each other");
   if (alternating) threads = alternate[0];
   if (n < 0 || threads < 0) return usage("--particles (or --sample) and --threads (or --alternate) are required");
   if (steps < 0) steps = std::max<long long>(200, static_cast<long long>(3e7 / static_cast<double>(n)));
+  if (in_turns && steps < block)
+    return usage("--steps must be at least --block with --alternate or --pair-tile (a whole pair of turns)");
 
   // ---- preparation, all hardware threads -------------------------------------
   omp_set_num_threads(omp_get_num_procs());
@@ -635,10 +645,10 @@ int main(int argc, char** argv) {
   vt::bench::Turn turns[2];
   std::vector<double> turn_ratios;
   std::vector<double> step_us;  // each timed step's wall time [us] (one count, one simulation)
-  if (alternating || paired) {
-    turns[0] = {sim.get(), static_cast<int>(threads), block};
-    turns[1] = {paired ? pair_sim.get() : sim.get(), static_cast<int>(paired ? threads : alternate[1]), block};
-    turn_ratios = vt::bench::run_turns(turns, steps, [](const Simulation& s) { die(s); });
+  if (in_turns) {
+    turns[0] = {sim.get(), static_cast<int>(threads)};
+    turns[1] = {paired ? pair_sim.get() : sim.get(), static_cast<int>(paired ? threads : alternate[1])};
+    turn_ratios = vt::bench::run_turns(turns, steps, block, [](const Simulation& s) { die(s); });
   } else {
     step_us.reserve(static_cast<std::size_t>(steps));
     for (long long k = 0; k < steps; ++k) {
@@ -658,6 +668,8 @@ int main(int argc, char** argv) {
   const Measures m = sim->measures();
 
   const double np = static_cast<double>(n);
+  // the steps the (first) simulation took while timed: 2S with --alternate
+  const long long simulated_steps = alternating ? turns[0].steps + turns[1].steps : steps;
   std::printf("particles: %lld\n", n);
   if (alternating)
     std::printf("threads: %lld and %lld in turn, %lld steps at a time\n", alternate[0], alternate[1], block);
@@ -697,7 +709,7 @@ int main(int argc, char** argv) {
     std::printf("spheroid_contact_fallbacks: %llu\n", static_cast<unsigned long long>(cs.fallbacks));
     std::printf("spheroid_contact_failures: %llu\n", static_cast<unsigned long long>(cs.failures));
     std::printf("spheroid_pairs_asleep_per_particle_step: %.3f\n",
-                static_cast<double>(asleep) / (np * static_cast<double>(steps)));
+                static_cast<double>(asleep) / (np * static_cast<double>(simulated_steps)));
   }
   std::printf("state_fingerprint: %016llx\n", static_cast<unsigned long long>(fingerprint(*sim)));
   std::printf("wall_seconds: %.3f\n", wall);
@@ -715,7 +727,7 @@ int main(int argc, char** argv) {
     std::printf("pair: %s tiled %dx%dx%d, %zu particles, %s, %lld steps in blocks of %lld\n",
                 (pair_sample.empty() ? sample : pair_sample).c_str(), pair_tile[0], pair_tile[1], pair_tile[2],
                 pair_sim->particles().size(), pair_sim->particles().has_spheroids() ? "spheroids" : "spheres",
-                turns[1].steps, turns[1].block);
+                turns[1].steps, block);
     std::printf("pair_start: void_ratio %.4f contacts_per_particle %.3f mean_stress_pa %.1f\n", pair_m0.void_ratio,
                 static_cast<double>(pair_m0.contacts) / static_cast<double>(pair_sim->particles().size()), pair_m0.p);
     std::printf("us_per_particle_step_pair: %.4f\n", turns[1].cost() * 1e6);
@@ -725,10 +737,10 @@ int main(int argc, char** argv) {
   }
   // where the time went (phase_times.h): per thread, seconds in each phase
   // of the timed steps and the rest of the two parallel regions (waits)
-  if (!alternating && !paired)
+  if (!in_turns)
     std::printf("region_seconds: forces %.6f integration %.6f\n", phases.region(PhaseTimes::ForceRegion),
                 phases.region(PhaseTimes::IntegrationRegion));
-  for (int t = 0; t < phases.threads() && !alternating && !paired; ++t) {
+  for (int t = 0; t < phases.threads() && !in_turns; ++t) {
     if (phases.busy(t) == 0.0) continue;  // a slot of a larger team earlier
     std::printf("phase_seconds_thread_%d:", t);
     for (int k = 0; k < PhaseTimes::kPhaseCount; ++k)
@@ -739,7 +751,7 @@ int main(int argc, char** argv) {
   // the team's mean waits = imbalance + overhead over both regions; steady:
   // the part of the imbalance a better fixed cut would recover
   for (const auto r : {PhaseTimes::ForceRegion, PhaseTimes::IntegrationRegion})
-    if (!alternating && !paired)
+    if (!in_turns)
       std::printf("region_waits_%s: imbalance %.6f steady %.6f overhead %.6f\n",
                 r == PhaseTimes::ForceRegion ? "forces" : "integration", phases.imbalance(r),
                 phases.steady_imbalance(r), phases.overhead(r));
@@ -755,7 +767,7 @@ int main(int argc, char** argv) {
     std::printf("us_per_particle_step_median_step: %.4f\n", ep.median / np);
   }
   // with --alternate or --pair-tile: the first turn's (wall_seconds holds both)
-  const double cost = alternating || paired ? turns[0].cost() : wall / (np * static_cast<double>(steps));
+  const double cost = in_turns ? turns[0].cost() : wall / (np * static_cast<double>(steps));
   std::printf("us_per_particle_step: %.4f\n", cost * 1e6);
   return 0;
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Two threads against one, beside what this host gives two threads of any
 # program (bench/host_scaling.cpp), in the same interleaved rounds: each
-# round runs host_scaling once (compute, sync, cache and memory kernels:
-# S = 2 t_solo / t_together), then triax_bench on one thread and on two on
+# round runs host_scaling once (its six kernels, of which this prints
+# compute, sync, cache and memory: S = (t_solo0 + t_solo1) / max(t_0, t_1)),
+# then triax_bench on one thread and on two on
 # the tiled sample. Prints per round the host's S of each kernel, the
 # steal share, ours (one-thread / two-thread cost) and ours / S_sync, then
 # the medians. S_sync is the ceiling of a program that, like the DEM step,
@@ -31,7 +32,8 @@ sc=(); sy=(); sa=(); sm=(); ou=(); rel=()
 for ((r = 1; r <= R; ++r)); do
   host="$("${HOST}" --rounds 1 --seconds 0.1)"
   s_of() { awk -v k="$1" '$2 == k { print $(NF - 1) }' <<<"${host}"; }
-  steal="$(awk '$1 ~ /^[0-9]+$/ { s += $NF; n++ } END { printf "%.2f", s / n }' <<<"${host}")"
+  # the kernels' steal shares (-1: unreadable, left out)
+  steal="$(awk '$1 ~ /^[0-9]+$/ && $NF >= 0 { s += $NF; n++ } END { if (n) printf "%.2f", s / n; else print "-" }' <<<"${host}")"
   c="$(s_of compute)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
   one="$(cost 1)"; two="$(cost 2)"
   [[ -n "${one}" && -n "${two}" && -n "${y}" ]] || { echo "two_thread_ceiling: a run failed" >&2; exit 1; }

@@ -67,6 +67,8 @@ std::optional<int> other_runnable_tasks() {
 }
 
 namespace {
+constexpr std::size_t kIowait = 4;  // user nice system idle iowait irq softirq steal
+
 /// The first eight counters of an aggregate "cpu " line of /proc/stat.
 std::optional<std::array<unsigned long long, 8>> cpu_counters(const std::string& line) {
   std::istringstream in(line);
@@ -89,7 +91,10 @@ std::optional<double> steal_share(const std::string& stat_before, const std::str
   if (!b || !a) return std::nullopt;
   unsigned long long total = 0;
   for (std::size_t k = 0; k < 8; ++k) {
-    if ((*a)[k] < (*b)[k]) return std::nullopt;  // counters only grow
+    if ((*a)[k] < (*b)[k]) {
+      if (k == kIowait) continue;  // iowait may go back (proc(5)): counted as none
+      return std::nullopt;         // the others only grow
+    }
     total += (*a)[k] - (*b)[k];
   }
   if (total == 0) return std::nullopt;

@@ -61,7 +61,8 @@ bool room_for(int threads, int others, int cpus);
 /// between two aggregate /proc/stat lines ("cpu  user nice system idle
 /// iowait irq softirq steal ..."): d(steal) / d(user + nice + system + idle +
 /// iowait + irq + softirq + steal), in [0, 1]; nullopt when a line is not of
-/// that form or no time passed. A busy host shows it; bench/host_scaling
+/// that form, a counter other than iowait went back, or no time passed (an
+/// iowait that went back, which proc(5) allows, counts as none). A busy host shows it; bench/host_scaling
 /// prints it beside the two CPUs' scaling.
 std::optional<double> steal_share(const std::string& stat_before, const std::string& stat_after);
 /// The online CPUs when this process may run on all of them (the room is
