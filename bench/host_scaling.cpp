@@ -110,50 +110,56 @@ bool pin_to(int cpu) {
   return pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
 }
 
-/// A barrier whose waiters spin (as OpenMP threads do at first).
-class SpinBarrier {
+/// How the sliced kernels' threads wait for each other.
+enum class Wait {
+  None,         // no barrier: compute, cache, memory
+  Spin,         // spinning with PAUSE in the loop, as libgomp's threads do at first
+  SpinNoPause,  // spinning without PAUSE (no pause-loop exits to the hypervisor)
+  Asleep,       // a pthread barrier (a futex: the vCPU halts), as OpenMP threads after their spin
+};
+
+/// The barrier of two threads running a sliced kernel together.
+class SliceBarrier {
  public:
-  SpinBarrier(int parties, bool pause, bool block) : parties_(parties), pause_(pause), block_(block) {
-    pthread_barrier_init(&sleeping_, nullptr, static_cast<unsigned>(parties));
-  }
-  ~SpinBarrier() { pthread_barrier_destroy(&sleeping_); }
+  explicit SliceBarrier(Wait wait) : wait_(wait) { pthread_barrier_init(&sleeping_, nullptr, 2); }
+  ~SliceBarrier() { pthread_barrier_destroy(&sleeping_); }
+  SliceBarrier(const SliceBarrier&) = delete;
+  SliceBarrier& operator=(const SliceBarrier&) = delete;
   void wait() {
-    if (block_) {
+    if (wait_ == Wait::Asleep) {
       pthread_barrier_wait(&sleeping_);
       return;
     }
     const int gen = generation_.load(std::memory_order_acquire);
-    if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == parties_) {
+    if (arrived_.fetch_add(1, std::memory_order_acq_rel) + 1 == 2) {
       arrived_.store(0, std::memory_order_relaxed);
       generation_.fetch_add(1, std::memory_order_acq_rel);
       return;
     }
     while (generation_.load(std::memory_order_acquire) == gen)
-      if (pause_) __builtin_ia32_pause();
+      if (wait_ == Wait::Spin) __builtin_ia32_pause();
   }
 
  private:
-  const int parties_;
-  const bool pause_;
-  const bool block_;  // wait asleep (pthread barrier, a futex) instead of spinning
+  const Wait wait_;
   pthread_barrier_t sleeping_;
   std::atomic<int> arrived_{0};
   std::atomic<int> generation_{0};
 };
 
 /// One kernel's work: run() does it once on the calling thread, on the
-/// first `doubles` of a thread's buffer; `slices` > 0: the compute work in
-/// that many slices with a wait at `barrier` after each (when given).
+/// first `doubles` of a thread's buffer (0: compute); a kernel that waits
+/// runs the compute work in `slices` slices with a wait at `barrier` after
+/// each (when given: together, not alone).
 struct Kernel {
   const char* name;
-  std::size_t doubles;  // buffer per thread (0: compute)
+  std::size_t doubles;
+  Wait wait = Wait::None;
   long reps = 1;
-  long slices = 0;
-  bool pause = true;   // the barrier's spin loop uses the PAUSE instruction
-  bool block = false;  // the barrier waits asleep
-  double run(std::vector<double>& buf, SpinBarrier* barrier) const {
+  long slices = 1;
+  double run(std::vector<double>& buf, SliceBarrier* barrier) const {
     if (doubles > 0) return stream_kernel(buf.data(), doubles, reps);
-    if (slices == 0) return compute_kernel(reps);
+    if (wait == Wait::None) return compute_kernel(reps);
     double s = 0.0;
     for (long k = 0; k < slices; ++k) {
       s += compute_kernel(reps / slices);
@@ -182,7 +188,7 @@ void together(const Kernel& k, std::vector<double>& buf0, std::vector<double>& b
               double& t1) {
   pthread_barrier_t start;
   pthread_barrier_init(&start, nullptr, 2);
-  SpinBarrier slices(2, k.pause, k.block);
+  SliceBarrier slices(k.wait);
   double r0 = 0.0, r1 = 0.0;
   const auto body = [&](int cpu, std::vector<double>& buf, double& t, double& r) {
     pin_to(cpu);
@@ -235,16 +241,16 @@ int main(int argc, char** argv) {
   if (std::thread::hardware_concurrency() < 2) return usage("needs two CPUs");
 
   std::vector<Kernel> kernels{{"compute", 0},
-                              {"sync", 0},
-                              {"syncnp", 0},
-                              {"syncblk", 0},
+                              {"sync", 0, Wait::Spin},
+                              {"syncnp", 0, Wait::SpinNoPause},
+                              {"syncblk", 0, Wait::Asleep},
                               {"cache", (6u << 20) / sizeof(double)},
                               {"memory", (96u << 20) / sizeof(double)}};
   std::vector<double> buf0((96u << 20) / sizeof(double), 1.0), buf1(buf0.size(), 1.0);
   Sink sink;
-  // Size each kernel's work to about `seconds` alone on CPU 0.
+  // Size each kernel without waits to about `seconds` alone on CPU 0.
   for (Kernel& k : kernels) {
-    k.reps = 1;
+    if (k.wait != Wait::None) continue;
     for (;;) {
       const double t = solo(k, 0, buf0, sink);
       if (t < 0.0) return usage("cannot run on CPU 0 (taskset?)");
@@ -255,18 +261,18 @@ int main(int argc, char** argv) {
       k.reps *= 4;
     }
   }
-  // sync: the compute work in slices of about kSliceSeconds
-  for (int ks : {1, 2, 3}) {
-    Kernel& sync = kernels[static_cast<std::size_t>(ks)];
-    sync.pause = ks == 1;
-    sync.block = ks == 3;
-    sync.reps = kernels[0].reps;
-    sync.slices = std::max(1L, static_cast<long>(seconds / kSliceSeconds));
-    sync.reps -= sync.reps % sync.slices;
-    // a slice runs slower than its share of one call: slices from a timing
-    const double t = solo(sync, 0, buf0, sink);
-    sync.slices = std::max(1L, static_cast<long>(t / kSliceSeconds));
-    sync.reps -= sync.reps % sync.slices;
+  // The kernels that wait: compute's work in slices of about kSliceSeconds
+  // (a slice runs slower than its share of one call, so the count comes
+  // from a timing of the sliced work; alone, no barrier is waited at).
+  Kernel sliced = kernels[0];
+  sliced.wait = Wait::Spin;
+  sliced.slices = std::max(1L, static_cast<long>(seconds / kSliceSeconds));
+  sliced.reps -= sliced.reps % sliced.slices;
+  const long slices = std::max(1L, static_cast<long>(solo(sliced, 0, buf0, sink) / kSliceSeconds));
+  for (Kernel& k : kernels) {
+    if (k.wait == Wait::None) continue;
+    k.slices = slices;
+    k.reps = kernels[0].reps - kernels[0].reps % slices;
   }
 
   std::printf("# host_scaling: %d rounds; S = (t_solo0 + t_solo1) / max(t_0, t_1) (2: two CPUs as fast together "
