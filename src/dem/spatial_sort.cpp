@@ -13,17 +13,6 @@ namespace vt::dem {
 
 namespace {
 
-/// Spread the low 21 bits of v so that there are two zero bits between each.
-std::uint64_t spread3(std::uint64_t v) {
-  v &= 0x1fffffULL;
-  v = (v | (v << 32)) & 0x1f00000000ffffULL;
-  v = (v | (v << 16)) & 0x1f0000ff0000ffULL;
-  v = (v | (v << 8)) & 0x100f00f00f00f00fULL;
-  v = (v | (v << 4)) & 0x10c30c30c30c30c3ULL;
-  v = (v | (v << 2)) & 0x1249249249249249ULL;
-  return v;
-}
-
 template <class T>
 void permute_vector(std::vector<T>& v, const std::vector<std::int32_t>& order) {
   if (v.size() != order.size()) throw std::invalid_argument("permute: particle arrays differ in length");
@@ -37,7 +26,8 @@ void permute_vector(std::vector<T>& v, const std::vector<std::int32_t>& order) {
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell) {
   const std::size_t n = p.size();
-  // Bins about one largest diameter wide (at most 2^21 per axis).
+  // Bins about one largest diameter wide (at most 2^21 per axis), keyed in
+  // layer order (header comment).
   const double width = 2.0 * p.max_bounding_radius();
   const Vec3 h = cell.heights();
   int nb[3];
@@ -51,7 +41,8 @@ std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& 
     std::uint64_t b[3];
     for (int a = 0; a < 3; ++a)
       b[a] = static_cast<std::uint64_t>(std::min(nb[a] - 1, std::max(0, static_cast<int>(s[a] * nb[a]))));
-    key[i] = {spread3(b[0]) | (spread3(b[1]) << 1) | (spread3(b[2]) << 2), static_cast<std::int32_t>(i)};
+    key[i] = {(b[2] * static_cast<std::uint64_t>(nb[1]) + b[1]) * static_cast<std::uint64_t>(nb[0]) + b[0],
+              static_cast<std::int32_t>(i)};
   }
   std::sort(key.begin(), key.end());  // ties broken by old index: stable
   std::vector<std::int32_t> order(n);
