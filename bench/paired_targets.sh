@@ -10,7 +10,7 @@
 #   x_N1                 10^5 against 12 000 spheres, one thread and two
 #   spheroid / sphere    12 000 (3x2x2) each, one thread and two
 # then the medians over the rounds. Samples: config/samples/dense_1000.h5
-# and dense_1000_spheroid.h5, layer-sorted, the state at the start that
+# and dense_1000_spheroid.h5, slab-sorted, the state at the start that
 # of bench/run_matrix.sh (same samples and shear rate; with --alternate
 # the one simulation shears through 2 x STEPS steps, the pairs through
 # STEPS each).

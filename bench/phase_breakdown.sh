@@ -19,7 +19,7 @@ tile_rounds phase_breakdown "$@"
 # shellcheck source=median.sh
 source bench/median.sh
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
-echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, layer-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, slab-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 for ((r = 1; r <= R; ++r)); do
   for t in 1 2; do
     "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads "${t}" --steps "${STEPS}" >"${work}/${t}_${r}" 2>/dev/null ||

@@ -19,7 +19,7 @@
 # contacts per particle, 100 kPa) and SPHEROID_SAMPLE (default
 # config/samples/dense_1000_spheroid.h5, aspect 1.2). Tiles: K (K x K x K) or
 # KxKyKz; 3x2x2 = 12 000 and 5x5x4 = 100 000 particles.
-# SORT=1 (default) stores the tiled sample in layer order first
+# SORT=1 (default) stores the tiled sample in slab order first
 # (triax_bench --sort-sample, spatial_sort.h), for every tile, thread count
 # and shape alike, as LAMMPS does by default (atom_modify sort; our runs sort
 # new specimens above 1536 particles, dem::order_new_specimen): the tiles come
@@ -120,7 +120,7 @@ list="${TILES}"; [[ "${LOOSE}" == 1 ]] && { list="${SIZES}"; mkdir -p "${CACHE_D
 work="$(mktemp -d)"; trap 'rm -rf "${work}"' EXIT
 # RAW_DIR: keep every run's triax_bench output there (SIZE_T_SHAPE_ROUND)
 if [[ -n "${RAW_DIR:-}" ]]; then mkdir -p "${RAW_DIR}"; trap 'cp "${work}"/* "${RAW_DIR}"/ 2>/dev/null || true; rm -rf "${work}"' EXIT; fi
-echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'layer-sorted' || echo 'as stored')")"
+echo "# $(date -u '+%F %H:%M UTC'), $(nproc) CPUs, load average at start: $(cut -d' ' -f1-3 /proc/loadavg), REPEATS=${REPEATS}, $([[ ${LOOSE} == 1 ]] && echo 'LOOSE bench packing (extra)' || echo "dense prepared samples, tiled, $([[ ${SORT} == 1 ]] && echo 'slab-sorted' || echo 'as stored')")"
 echo "# vCPU speeds before (one thread pinned, us per particle-step): $(vcpu_speeds)"
 
 echo "# cost per particle-step: ${COST}"

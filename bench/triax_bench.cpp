@@ -25,7 +25,7 @@
 // Preparation (all hardware threads, progress on stderr), material rho 2650,
 // E 70 GPa, nu 0.3, mu 0.5, c_t 0.3, OD damping xi = 0.02:
 //   1. radii uniform in [0.8, 1.2] mm; dem::generate_cloud at void ratio 2.0;
-//      dem::spatial_sort (layer bin order) unless --no-sort;
+//      dem::spatial_sort (slab bin order) unless --no-sort;
 //   2. compaction: isotropic compression in blocks of 50 steps, starting at
 //      eps' = 1e-3 per axis; after each block the rate is scaled by
 //      sqrt(3 MPa / p) (clamped to [0.5, 1.5], at most 1e-3; halved when an
@@ -430,7 +430,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<Simulation> preloaded;
   std::unique_ptr<Simulation> pair_sim;  // --pair-tile
   bool sort = true;
-  bool sort_sample = false;  // --sample: layer-sort the (tiled) sample before timing
+  bool sort_sample = false;  // --sample: slab-sort the (tiled) sample before timing
   double skin_ratio = -1.0;
   std::string cache_dir;
   bool spheroids = false;

@@ -26,7 +26,7 @@ cost() {
   "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads "$1" --steps "${STEPS}" 2>/dev/null |
     awk '/^us_per_particle_step:/ { print $2 }'
 }
-echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, layer-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, slab-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' round S_compute S_sync S_cache S_memory steal% one_us two_us ours ours/S_s
 sc=(); sy=(); sa=(); sm=(); ou=(); rel=()
 for ((r = 1; r <= R; ++r)); do

@@ -24,25 +24,35 @@ void permute_vector(std::vector<T>& v, const std::vector<std::int32_t>& order) {
 
 }  // namespace
 
-std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell) {
-  const std::size_t n = p.size();
-  // Bins about one largest diameter wide (at most 2^21 per axis), keyed in
-  // layer order (header comment).
+SortGrid sort_grid(const Particles& p, const PeriodicCell& cell) {
+  SortGrid g;
   const double width = 2.0 * p.max_bounding_radius();
   const Vec3 h = cell.heights();
-  int nb[3];
   for (int a = 0; a < 3; ++a) {
     const double k = width > 0.0 ? std::floor(h[a] / width) : 1.0;
-    nb[a] = static_cast<int>(std::min(std::max(k, 1.0), 2097152.0));
+    g.bins[a] = static_cast<int>(std::min(std::max(k, 1.0), 2097152.0));
   }
+  // the most bins first; equal counts keep s_3, s_2, s_1
+  std::stable_sort(g.axes, g.axes + 3, [&g](int x, int y) { return g.bins[x] > g.bins[y]; });
+  return g;
+}
+
+int SortGrid::bin(const Vec3& s, int axis) const {
+  const double w = PeriodicCell::wrap(s)[axis];
+  return std::min(bins[axis] - 1, std::max(0, static_cast<int>(w * bins[axis])));
+}
+
+std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell) {
+  const std::size_t n = p.size();
+  const SortGrid g = sort_grid(p, cell);
+  const int a0 = g.axes[0], a1 = g.axes[1], a2 = g.axes[2];
   std::vector<std::pair<std::uint64_t, std::int32_t>> key(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 s = PeriodicCell::wrap(p.frac[i]);
-    std::uint64_t b[3];
-    for (int a = 0; a < 3; ++a)
-      b[a] = static_cast<std::uint64_t>(std::min(nb[a] - 1, std::max(0, static_cast<int>(s[a] * nb[a]))));
-    key[i] = {(b[2] * static_cast<std::uint64_t>(nb[1]) + b[1]) * static_cast<std::uint64_t>(nb[0]) + b[0],
-              static_cast<std::int32_t>(i)};
+    const auto b = [&](int axis) { return static_cast<std::uint64_t>(g.bin(p.frac[i], axis)); };
+    // (b_slab nb_mid + b_mid) nb_fast + b_fast (< 2^63)
+    const std::uint64_t k = (b(a0) * static_cast<std::uint64_t>(g.bins[a1]) + b(a1)) *
+                                static_cast<std::uint64_t>(g.bins[a2]) + b(a2);
+    key[i] = {k, static_cast<std::int32_t>(i)};
   }
   std::sort(key.begin(), key.end());  // ties broken by old index: stable
   std::vector<std::int32_t> order(n);

@@ -68,7 +68,7 @@ class Preparer {
     req.void_ratio = s_.initial_void_ratio;
     req.seed = s_.seed;
     dem::Cloud cloud = dem::generate_cloud(req);
-    // a new specimen: above 1536 particles in layer order (dem/spatial_sort.h),
+    // a new specimen: above 1536 particles in slab order (dem/spatial_sort.h),
     // before the first step, so the criteria are judged on the state saved
     dem::order_new_specimen(cloud.particles, cloud.cell);
     dem::SimulationSettings ss;

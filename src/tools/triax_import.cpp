@@ -9,8 +9,8 @@
 // bench/lammps_side_by_side.sh). The density comes from the data file; E, nu,
 // mu default to 70 GPa, 0.3, 0.5; OD damping ratio default 0.02. The
 // imported sample has no contact history (a data file holds none); above
-// 1536 particles it is stored in layer order (dem::order_new_specimen).
-// --sort stores a sample file's state in layer order (dem::spatial_sort,
+// 1536 particles it is stored in slab order (dem::order_new_specimen).
+// --sort stores a sample file's state in slab order (dem::spatial_sort,
 // at any size): the same packing, contacts and metadata, for samples
 // written before session 14 or by other tools (the shipped
 // dense_4000.h5 and loose_4000.h5 were re-stored with it). Do not sort a
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
       vt::dem::SimulationState st = vt::io::read_sample(sort, &meta);
       vt::dem::spatial_sort(st);
       vt::io::write_sample(out, st, meta);
-      std::printf("particles: %zu\nsorted: layer order\nwrote: %s\n", st.particles.size(), out.c_str());
+      std::printf("particles: %zu\nsorted: slab order\nwrote: %s\n", st.particles.size(), out.c_str());
       return 0;
     }
     vt::dem::SimulationSettings settings;

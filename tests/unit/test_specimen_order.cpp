@@ -1,5 +1,5 @@
 // Storage order of a new specimen (dem/spatial_sort.h, order_new_specimen):
-// a generated specimen of more than 1536 particles starts in layer order,
+// a generated specimen of more than 1536 particles starts in slab order,
 // carrying every particle's data and its contacts with it; a smaller one
 // keeps the generator's order; a sample file is loaded as stored, so a
 // state saved mid-run continues bit for bit; triax_import sorts a LAMMPS
@@ -119,45 +119,49 @@ TEST(SpecimenOrder, SortingCarriesEveryParticlesDataAndContacts) {
   }
 }
 
-// The layer order's promise (spatial_sort.h): touching particles are
-// stored within two consecutive layers of bins of each other, except the
-// pairs across the cell's periodic wrap in s_3, so the loops stream through
-// a window of a few layers and no partner is a random jump in memory. On a
-// Morton order this fails: pairs across its coarse bins' faces are stored
-// thousands of particles apart.
-TEST(SpecimenOrder, TouchingParticlesAreStoredWithinTwoLayersOfEachOther) {
-  dem::SimulationState s = dem::tile_periodic(io::read_sample(sample("dense_1000.h5")), 2, 2, 2);
+// The slab order's promise (spatial_sort.h): slabs across the cell's
+// longest axis, and touching particles stored within two consecutive slabs
+// of each other, except the pairs across the cell's periodic wrap across
+// the slabs, so the loops stream through a window of a few slabs and no
+// partner is a random jump in memory. On a Morton order this fails: pairs
+// across its coarse bins' faces are stored thousands of particles apart.
+TEST(SpecimenOrder, TouchingParticlesAreStoredWithinTwoSlabsOfEachOther) {
+  // 3x2x2 copies: the cell is longest along s_1
+  dem::SimulationState s = dem::tile_periodic(io::read_sample(sample("dense_1000.h5")), 3, 2, 2);
   dem::order_new_specimen(s);
   const dem::Particles& p = s.particles;
   const dem::PeriodicCell cell(s.h, s.h_reference);
   const std::size_t n = p.size();
-  ASSERT_EQ(n, 8000u);
+  ASSERT_EQ(n, 12000u);
   ASSERT_TRUE(in_space_order(p, cell));
-  // the layers: bins one largest diameter wide along s_3, as spatial_order
-  const int layers = static_cast<int>(std::floor(cell.heights()[2] / (2.0 * p.max_bounding_radius())));
-  ASSERT_GE(layers, 8);
-  std::vector<int> layer(n);
-  std::vector<std::size_t> count(static_cast<std::size_t>(layers), 0);
+  const dem::SortGrid grid = dem::sort_grid(p, cell);
+  ASSERT_EQ(grid.axes[0], 0) << "slabs across the longest axis";
+  EXPECT_GT(grid.bins[0], grid.bins[1]);
+  const double width = 2.0 * p.max_bounding_radius();
+  for (int a = 0; a < 3; ++a) EXPECT_EQ(grid.bins[a], static_cast<int>(std::floor(cell.heights()[a] / width))) << a;
+  const int slabs = grid.bins[0];
+  ASSERT_GE(slabs, 8);
+  std::vector<int> slab(n);
+  std::vector<std::size_t> count(static_cast<std::size_t>(slabs), 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const double s3 = dem::PeriodicCell::wrap(p.frac[i])[2];
-    layer[i] = std::min(layers - 1, static_cast<int>(s3 * layers));
-    ++count[static_cast<std::size_t>(layer[i])];
+    slab[i] = grid.bin(p.frac[i], 0);
+    ++count[static_cast<std::size_t>(slab[i])];
   }
-  // storage is by layer: each layer one contiguous run
-  for (std::size_t i = 1; i < n; ++i) ASSERT_LE(layer[i - 1], layer[i]) << "particle " << i;
-  std::size_t window = 0;  // the most particles in two consecutive layers
-  for (int l = 0; l + 1 < layers; ++l) window = std::max(window, count[static_cast<std::size_t>(l)] + count[static_cast<std::size_t>(l + 1)]);
-  EXPECT_LT(window, 3 * n / static_cast<std::size_t>(layers));  // layers hold about N / layers each
+  // storage is by slab: each slab one contiguous run
+  for (std::size_t i = 1; i < n; ++i) ASSERT_LE(slab[i - 1], slab[i]) << "particle " << i;
+  std::size_t window = 0;  // the most particles in two consecutive slabs
+  for (int l = 0; l + 1 < slabs; ++l) window = std::max(window, count[static_cast<std::size_t>(l)] + count[static_cast<std::size_t>(l + 1)]);
+  EXPECT_LT(window, 3 * n / static_cast<std::size_t>(slabs));  // slabs hold about N / slabs each
   std::size_t touching = 0, across_wrap = 0, farthest = 0;
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j) {
       const double reach = p.radius[i] + p.radius[j];
       if (norm2(cell.branch(p.frac[i], p.frac[j])) >= reach * reach) continue;
       ++touching;
-      if (std::abs(layer[i] - layer[j]) > 1) {
+      if (std::abs(slab[i] - slab[j]) > 1) {
         ++across_wrap;
-        EXPECT_TRUE(std::min(layer[i], layer[j]) == 0 && std::max(layer[i], layer[j]) == layers - 1)
-            << "particles " << i << " and " << j << " touch " << std::abs(layer[i] - layer[j]) << " layers apart";
+        EXPECT_TRUE(std::min(slab[i], slab[j]) == 0 && std::max(slab[i], slab[j]) == slabs - 1)
+            << "particles " << i << " and " << j << " touch " << std::abs(slab[i] - slab[j]) << " slabs apart";
         continue;
       }
       farthest = std::max(farthest, j - i);
@@ -260,7 +264,7 @@ TEST(SpecimenOrder, TriaxImportSortsImportsAndReStoresSamples) {
   meta.created_by = "test: dense_4000 reversed";
   const fs::path in = dir / "reversed.h5", out = dir / "sorted.h5", again = dir / "again.h5";
   io::write_sample(in.string(), reversed, meta);
-  // --sort: layer order, every particle's data by id, contacts and metadata kept
+  // --sort: slab order, every particle's data by id, contacts and metadata kept
   vt::test::CliRun r = import("--sort " + in.string() + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   io::SampleMetadata got;

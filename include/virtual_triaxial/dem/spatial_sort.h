@@ -1,4 +1,4 @@
-// Spatial (bin, layer-order) sort of the particle storage order.
+// Spatial (bin, slab-order) sort of the particle storage order.
 //
 // The DEM core walks particles in storage order and, for each one, its
 // neighbours; when storage order follows space, those neighbours sit close by
@@ -9,32 +9,38 @@
 //
 // spatial_sort() permutes every array of Particles together so that storage
 // follows a bin grid in the cell's fractional coordinates, bins about one
-// largest bounding diameter wide, in layer order: by the bin's third index
-// (s_3), then its second, then its first,
-//     key = (b_3 nb_2 + b_2) nb_1 + b_1,
+// largest bounding diameter wide (SortGrid), in slab order: by the bin along
+// the axis with the most bins (the cell's longest, in bins), then along the
+// next, then the last,
+//     key = (b_slab nb_mid + b_mid) nb_fast + b_fast,
 // and within a bin the previous order is kept (stable). Two touching
 // particles are at most one bin apart on each axis, so away from the
-// cell's periodic wrap in s_3 a particle's neighbours are stored within one
-// layer of bins (about N^(2/3) particles) of it: the loops stream through
-// a window of three layers (at 10^5 spheres about 6500 particles, 0.8 MB of
-// positions, radii, velocities, spins, forces and torques: the L2 cache),
-// and no partner is a random jump in memory. A Z (Morton) order, used up to
-// session 23, keeps most neighbours closer still but sends the pairs across
-// its coarse bins' faces far away (8 % of the list entries more than 4096
-// particles apart at 10^5 spheres), each a miss to memory; measured
-// interleaved (bench/ab_builds.sh, 4-5 rounds, dense_1000.h5 tiled, us per
-// particle-step, Morton -> layers): 10^5 spheres one thread 0.133 -> 0.101
-// (0.786x), two threads 0.071 -> 0.054 (0.760x); 12 000 spheres 0.960x on
-// one and on two threads; 12 000 spheroids one thread 0.928x
-// (bench/results/2026-12-03-s24/). Ids travel with their particles, so
-// contact history (keyed by ids) and thread-count independence are
-// unaffected. It does change the list order, which is the order of the
-// per-particle force sums, and which particles share a 512-particle
-// reduction chunk, so a sorted and an unsorted copy of one scene agree only
-// to round-off (forces, stress, energies): sort once, when a scene is built,
-// before constructing the Simulation -- never in the middle of a run.
-// Several threads take consecutive runs of storage, i.e. slabs across s_3
-// that meet across planes. Deterministic; O(N log N).
+// cell's periodic wrap across the slabs a particle's neighbours are stored
+// within two slabs of bins of it (about 2 N / nb_slab particles): the loops
+// stream through a window of three slabs (at 10^5 spheres about 6500
+// particles, 0.8 MB of positions, radii, velocities, spins, forces and
+// torques: the L2 cache), and no partner is a random jump in memory. A Z
+// (Morton) order, used up to session 23, keeps most neighbours closer
+// still but sends the pairs across its coarse bins' faces far away (8 % of
+// the list entries more than 4096 particles apart at 10^5 spheres), each a
+// miss to memory. Several threads take consecutive runs of storage, i.e.
+// slabs that meet across planes normal to the slab axis: slabbing across
+// the cell's longest axis makes those planes, and the pairs that cross the
+// threads' runs, the fewest (12 000 spheres tiled 3x2x2: 560 edge particles
+// and 497 tails instead of 819 and 856 with slabs across the shorter s_3).
+// Measured interleaved (bench/ab_builds.sh, us per particle-step; data in
+// bench/results/2026-12-03-s24/experiments.txt), Morton -> slabs across
+// s_3: 10^5 spheres one thread 0.133 -> 0.101 (0.786x), two threads 0.071 ->
+// 0.054 (0.760x); 12 000 spheres 0.960x on one and on two threads; 12 000
+// spheroids one thread 0.928x; then slabs across s_3 -> across the longest
+// axis: 12 000 spheres two threads 0.911x, one 0.993x; 10^5 two 0.979x.
+// Ids travel with their particles, so contact history (keyed by ids) and
+// thread-count independence are unaffected. It does change the list order,
+// which is the order of the per-particle force sums, and which particles
+// share a 512-particle reduction chunk, so a sorted and an unsorted copy of
+// one scene agree only to round-off (forces, stress, energies): sort once,
+// when a scene is built, before constructing the Simulation -- never in the
+// middle of a run. Deterministic; O(N log N).
 #pragma once
 
 #include <cstddef>
@@ -47,6 +53,19 @@
 namespace vt::dem {
 
 struct SimulationState;
+
+/// The bin grid of spatial_order: bins about one largest bounding diameter
+/// (2 max(a, R)) wide along each axis of the fractional coordinates, at
+/// least 1 and at most 2^21 per axis, and the axes in storage order.
+struct SortGrid {
+  int bins[3] = {1, 1, 1};  ///< bins along s_1, s_2, s_3
+  /// Axes from the slowest-varying in storage (the slabs' axis: the most
+  /// bins) to the fastest; equal counts keep s_3, s_2, s_1.
+  int axes[3] = {2, 1, 0};
+  /// The bin along `axis` of fractional position s (wrapped into [0, 1)).
+  int bin(const Vec3& s, int axis) const;
+};
+SortGrid sort_grid(const Particles& p, const PeriodicCell& cell);
 
 /// New storage order: order[k] = old index of the particle stored at k.
 std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell);
@@ -63,7 +82,7 @@ void spatial_sort(SimulationState& s);
 
 /// The storage order of a NEW specimen: one generated from a scene's
 /// particle list or cloud (io::build_simulation), the cloud a sample
-/// preparation starts from (so the prepared sample stays close to layer
+/// preparation starts from (so the prepared sample stays close to slab
 /// order, and its criteria are judged on the state it saves) and a packing
 /// imported from LAMMPS (triax_import). Never a sample file being loaded: a sample file
 /// may hold a state saved mid-run that a protocol continues bit for bit

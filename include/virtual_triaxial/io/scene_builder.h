@@ -2,7 +2,7 @@
 //   distribution  loose cloud (phase 1 of chapter 4.3.1) from the size
 //                 distribution, seed, aspect ratios and initial void ratio;
 //   list          the explicit particles in a cell of the given lengths;
-//                 (distribution and list: stored in layer order above
+//                 (distribution and list: stored in slab order above
 //                 1536 particles, dem::order_new_specimen, ids kept)
 //   sample_file   a saved sample, continued exactly, in its stored order
 //                 (never re-sorted). Material (density,

@@ -38,7 +38,7 @@ dem::SimulationState loaded_packing(int particles = 400);
 /// Give every particle a random velocity of size ~speed and random spin.
 void randomize_velocities(dem::Particles& p, double speed, double spin, std::uint64_t seed);
 
-/// The state with its particles in spatial (layer) storage order
+/// The state with its particles in spatial (slab) storage order
 /// (dem::spatial_sort): storage order then differs from id order, so many
 /// particles have list entries of owners stored after them.
 dem::SimulationState spatially_sorted(dem::SimulationState s);
