@@ -25,7 +25,8 @@
 # new specimens above 1536 particles, dem::order_new_specimen): the tiles come
 # one after another, so two threads' runs would otherwise meet across a
 # tile cut in storage order, not in space (at 12 000 spheres 4568 pairs
-# cross the runs unsorted, 2600-3200 sorted). SORT=0: as stored.
+# cross the runs unsorted, 2600-3200 in the Morton order used up to session
+# 23; slab order leaves 560 edge particles and 497 tails). SORT=0: as stored.
 # The header line "vCPU speeds" times one thread pinned to each CPU (taskset,
 # the first tile, 300 steps) before and after the matrix: on a VM the two
 # vCPUs can differ by 30 % or more, which bounds what two threads can gain

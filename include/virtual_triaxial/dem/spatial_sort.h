@@ -17,9 +17,10 @@
 // particles are at most one bin apart on each axis, so away from the
 // cell's periodic wrap across the slabs a particle's neighbours are stored
 // within two slabs of bins of it (about 2 N / nb_slab particles): the loops
-// stream through a window of three slabs (at 10^5 spheres about 6500
-// particles, 0.8 MB of positions, radii, velocities, spins, forces and
-// torques: the L2 cache), and no partner is a random jump in memory. A Z
+// stream through a window of three slabs (at 10^5 spheres tiled 5x5x4,
+// 40 x 40 x 32 bins, about 7500 particles, 1 MB of positions, radii,
+// velocities, spins, forces and torques: about the L2 cache), and no
+// partner is a random jump in memory. A Z
 // (Morton) order, used up to session 23, keeps most neighbours closer
 // still but sends the pairs across its coarse bins' faces far away (8 % of
 // the list entries more than 4096 particles apart at 10^5 spheres), each a
@@ -94,8 +95,10 @@ void spatial_sort(SimulationState& s);
 /// radius, spatially random). Measured on the shipped dense_4000.h5 as
 /// prepared before session 14 (triax_bench, 3 rounds, us per
 /// particle-step): as stored, two threads 0.107-0.109 (7878-9280 of its
-/// 16 952 list entries, 4.238 per particle, cross the runs), one 0.080-0.082; sorted, two
-/// 0.067-0.073 (1614-1621 cross), one 0.077-0.080. Smaller specimens run on
+/// 16 952 list entries, 4.238 per particle, cross the runs), one 0.080-0.082;
+/// sorted in the Morton order of then, two 0.067-0.073 (1614-1621 cross),
+/// one 0.077-0.080 (the slab order since session 24 is faster again, see
+/// above). Smaller specimens run on
 /// one thread in cache, where the order costs nothing, and keep their order
 /// (and results) bit for bit. The threshold is fixed here, not derived from
 /// the governor's tuning, because it changes results.
