@@ -184,8 +184,15 @@ class LocalBackend(unittest.TestCase):
                 break
             time.sleep(0.05)
         self.assertGreaterEqual(len(published), 3, "the sweep did not get going")
-        victims = [driver.pid] + descendants(driver.pid)
-        workers = [p for p in victims[1:] if alive(p)]
+        # The driver starts the next worker right after one ends: poll over
+        # that gap (a look at the instant a run ends may find none alive).
+        victims, workers = [driver.pid], []
+        while time.monotonic() < deadline and driver.poll() is None:
+            victims = [driver.pid] + descendants(driver.pid)
+            workers = [p for p in victims[1:] if alive(p)]
+            if workers:
+                break
+            time.sleep(0.005)
         self.assertGreaterEqual(len(workers), 1, "expected running workers to kill")
         for p in victims:
             try:
