@@ -182,17 +182,16 @@ TEST(SpecimenOrder, TheSlabAxisHasTheMostBinsAndTiesKeepTheLastAxis) {
   const dem::SimulationState one = io::read_sample(sample("dense_1000.h5"));
   const dem::SimulationState big = dem::tile_periodic(one, 5, 5, 4);
   const dem::SortGrid g = dem::sort_grid(big.particles, dem::PeriodicCell(big.h, big.h_reference));
+  const auto axes = [](const dem::SortGrid& grid) {
+    return std::vector<int>{grid.axes[0], grid.axes[1], grid.axes[2]};
+  };
   EXPECT_EQ(g.bins[0], g.bins[1]);
   EXPECT_GT(g.bins[0], g.bins[2]);
-  EXPECT_EQ(g.axes[0], 1);
-  EXPECT_EQ(g.axes[1], 0);
-  EXPECT_EQ(g.axes[2], 2);
+  EXPECT_EQ(axes(g), (std::vector<int>{1, 0, 2}));
   const dem::SortGrid c = dem::sort_grid(one.particles, dem::PeriodicCell(one.h, one.h_reference));
   ASSERT_EQ(c.bins[0], c.bins[1]);
   ASSERT_EQ(c.bins[1], c.bins[2]);
-  EXPECT_EQ(c.axes[0], 2);
-  EXPECT_EQ(c.axes[1], 1);
-  EXPECT_EQ(c.axes[2], 0);
+  EXPECT_EQ(axes(c), (std::vector<int>{2, 1, 0}));
   // bins one largest diameter wide at least: touching particles are at most one bin apart
   const double width = 2.0 * big.particles.max_bounding_radius();
   const dem::Vec3 h = dem::PeriodicCell(big.h, big.h_reference).heights();
