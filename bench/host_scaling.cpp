@@ -169,7 +169,6 @@ struct Kernel {
   }
 };
 
-
 /// Solo time on `cpu`, or a negative value when the CPU cannot be used.
 double solo(const Kernel& k, int cpu, std::vector<double>& buf, Sink& sink) {
   double t = -1.0;

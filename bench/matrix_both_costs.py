@@ -23,8 +23,8 @@ def read_runs(folder):
     runs = {}
     for name in os.listdir(folder):
         parts = name.split('_')
-        if name.endswith('.idle') or len(parts) != 4:
-            continue
+        if name.endswith('.idle') or len(parts) != 4 or not parts[3].isdigit() or not os.path.isfile(os.path.join(folder, name)):
+            continue  # not a run's output
         size, threads, shape, rnd = parts
         values = {}
         with open(os.path.join(folder, name)) as f:
@@ -41,8 +41,9 @@ def main(argv):
         sys.exit(__doc__)
     runs = read_runs(argv[1])
     rounds = sorted({k[3] for k in runs})
-    sizes = sorted({k[0] for k in runs}, key=lambda s: int(runs[(s, '1', 'sphere', rounds[0])]['particles']))
-    if len(sizes) < 2 or not rounds:
+    sizes = sorted({k[0] for k in runs if rounds and (k[0], '1', 'sphere', rounds[0]) in runs},
+                   key=lambda s: int(runs[(s, '1', 'sphere', rounds[0])]['particles']))
+    if len(sizes) < 2:
         sys.exit(f'matrix_both_costs: {argv[1]} needs runs of two tiles (one thread, spheres, every round)')
     small, large = sizes[0], sizes[-1]
     cases = {

@@ -8,9 +8,12 @@ namespace vt::bench {
 
 using WallClock = std::chrono::steady_clock;
 
-/// Seconds from t to now.
-inline double seconds_since(WallClock::time_point t) {
-  return std::chrono::duration<double>(WallClock::now() - t).count();
+/// Seconds from a to b.
+inline double seconds_between(WallClock::time_point a, WallClock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
 }
+
+/// Seconds from t to now.
+inline double seconds_since(WallClock::time_point t) { return seconds_between(t, WallClock::now()); }
 
 }  // namespace vt::bench

@@ -37,9 +37,11 @@ SortGrid sort_grid(const Particles& p, const PeriodicCell& cell) {
   return g;
 }
 
-int SortGrid::bin(const Vec3& s, int axis) const {
-  const double w = PeriodicCell::wrap(s)[axis];
-  return std::min(bins[axis] - 1, std::max(0, static_cast<int>(w * bins[axis])));
+std::array<int, 3> SortGrid::bins_of(const Vec3& s) const {
+  const Vec3 w = PeriodicCell::wrap(s);
+  std::array<int, 3> b{};
+  for (int a = 0; a < 3; ++a) b[static_cast<std::size_t>(a)] = std::min(bins[a] - 1, std::max(0, static_cast<int>(w[a] * bins[a])));
+  return b;
 }
 
 std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& cell) {
@@ -48,7 +50,8 @@ std::vector<std::int32_t> spatial_order(const Particles& p, const PeriodicCell& 
   const int a0 = g.axes[0], a1 = g.axes[1], a2 = g.axes[2];
   std::vector<std::pair<std::uint64_t, std::int32_t>> key(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto b = [&](int axis) { return static_cast<std::uint64_t>(g.bin(p.frac[i], axis)); };
+    const std::array<int, 3> bi = g.bins_of(p.frac[i]);
+    const auto b = [&bi](int axis) { return static_cast<std::uint64_t>(bi[static_cast<std::size_t>(axis)]); };
     // (b_slab nb_mid + b_mid) nb_fast + b_fast (< 2^63)
     const std::uint64_t k = (b(a0) * static_cast<std::uint64_t>(g.bins[a1]) + b(a1)) *
                                 static_cast<std::uint64_t>(g.bins[a2]) + b(a2);

@@ -44,6 +44,7 @@
 // middle of a run. Deterministic; O(N log N).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -63,8 +64,11 @@ struct SortGrid {
   /// Axes from the slowest-varying in storage (the slabs' axis: the most
   /// bins) to the fastest; equal counts keep s_3, s_2, s_1.
   int axes[3] = {2, 1, 0};
-  /// The bin along `axis` of fractional position s (wrapped into [0, 1)).
-  int bin(const Vec3& s, int axis) const;
+  /// The bins along s_1, s_2, s_3 of fractional position s (wrapped into
+  /// [0, 1) once).
+  std::array<int, 3> bins_of(const Vec3& s) const;
+  /// The bin along `axis` of fractional position s: bins_of(s)[axis].
+  int bin(const Vec3& s, int axis) const { return bins_of(s)[static_cast<std::size_t>(axis)]; }
 };
 SortGrid sort_grid(const Particles& p, const PeriodicCell& cell);
 
