@@ -16,10 +16,15 @@ set -euo pipefail
 R=$1; T=$2; S=$3; ST=$4; shift 4; DIRS=("$@"); K=${#DIRS[@]}
 [[ "${R}" =~ ^[1-9][0-9]*$ ]] || { echo "ab_builds: ROUNDS must be a whole number >= 1" >&2; exit 2; }
 for d in "${DIRS[@]}"; do [[ -x "${d}/triax_bench" ]] || { echo "ab_builds: ${d}/triax_bench missing" >&2; exit 2; }; done
+# run DIR -> the run's cost (us_per_particle_step; not the median-step cost
+# printed beside it, tests/scripts/test_ab_builds.sh)
 run() {
+  local v
   # shellcheck disable=SC2086
-  LD_LIBRARY_PATH="$1" "$1/triax_bench" --sample "${S}" --tile "${TILE:-3x2x2}" --threads "${T}" --steps "${ST}" ${EXTRA:-} 2>&1 |
-    awk '/us_per_particle_step/{print $2}'
+  v="$(LD_LIBRARY_PATH="$1" "$1/triax_bench" --sample "${S}" --tile "${TILE:-3x2x2}" --threads "${T}" --steps "${ST}" ${EXTRA:-} 2>&1 |
+    awk -F': ' '$1 == "us_per_particle_step" { print $2 }')"
+  [[ -n "${v}" ]] || { echo "ab_builds: $1/triax_bench printed no us_per_particle_step" >&2; exit 1; }
+  echo "${v}"
 }
 for r in $(seq "${R}"); do
   line=()
@@ -30,6 +35,8 @@ done | python3 -c '
 import sys, statistics as st
 names = sys.argv[1:]
 rows = [list(map(float, l.split())) for l in sys.stdin if len(l.split()) == len(names)]
+if not rows:
+    sys.exit("ab_builds: no complete round")
 for k, n in enumerate(names):
     col = [r[k] for r in rows]; q = [r[k] / r[0] for r in rows]
     print("%-24s median %.4f min %.4f  ratio to the first, median %.3f  rounds %d" % (n, st.median(col), min(col), st.median(q), len(rows)))

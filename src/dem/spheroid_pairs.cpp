@@ -12,16 +12,13 @@ namespace vt::dem::pairs {
 
 namespace {
 
-/// What pass 2 needs of a pair in reach and awake.
+/// The geometry of a pair in reach and awake.
 struct PairGeometry {
   double delta = 0.0;  ///< signed overlap [m]; > 0 contact
   double gap = 0.0;    ///< > 0: apart by at least this along some fixed normal [m]
   Vec3 nrm;            ///< normal i -> j (contacts)
   Vec3 cpt;            ///< contact point relative to x_i [m] (contacts)
 };
-
-/// Pairs in reach whose geometry is found before their contact law is taken.
-constexpr std::int32_t kBlock = 256;
 
 /// The counters of a warm solve that converged in one Newton step.
 inline void count_warm_solve(SpheroidContactStats& stats) {
@@ -97,6 +94,49 @@ inline void spheroid_contact_lanes(LawLanes& L, const Mat3& lgrad, const HertzMi
   }
 }
 
+/// Up to kLawLanes pairs in reach and awake, queued in list order and taken
+/// through geometry and law together. A lane's geometry is either known when
+/// it is queued (a sphere pair by the closed form, a spheroid pair without a
+/// warm cache by scalar_geometry; only contacts are queued so) or found for
+/// the group by the warm lanes; then the contact law runs on all lanes (those
+/// found apart compute numbers nobody reads) and the results are stored and
+/// summed lane by lane, so in list order. A lane's results depend on its own
+/// inputs only, whichever group takes it.
+struct PairGroup {
+  static_assert(SpheroidWarmLanes::kLanes == kLawLanes, "one lane per pair in both");
+  SpheroidWarmLanes warm{};
+  LawLanes law{};
+  double known[kLawLanes] = {};  ///< 1: geometry set when queued; 0: by the warm lanes
+  bool contact[kLawLanes] = {};  ///< after the geometry: in contact
+  double gap[kLawLanes] = {};    ///< not in contact: as PairGeometry::gap [m]
+  std::int32_t entry[kLawLanes] = {};
+  std::int32_t list_index[kLawLanes] = {};  ///< c: the pair's place among the pairs in reach
+  int n = 0;                                ///< lanes queued
+
+  /// Lane k's contact geometry, known now.
+  void set_geometry(int k, const PairGeometry& gm) {
+    known[k] = 1.0;
+    contact[k] = true;
+    law.delta[k] = gm.delta;
+    law.nx[k] = gm.nrm.x; law.ny[k] = gm.nrm.y; law.nz[k] = gm.nrm.z;
+    law.cx[k] = gm.cpt.x; law.cy[k] = gm.cpt.y; law.cz[k] = gm.cpt.z;
+  }
+  /// The warm lanes' geometry into the law's inputs of the lanes not known
+  /// (selects over all lanes; the outcome decides later what is read).
+  void take_warm_geometry() {
+    for (int k = 0; k < kLawLanes; ++k) {
+      const bool w = known[k] == 0.0;
+      law.delta[k] = w ? warm.delta[k] : law.delta[k];
+      law.nx[k] = w ? warm.ox[k] : law.nx[k];
+      law.ny[k] = w ? warm.oy[k] : law.ny[k];
+      law.nz[k] = w ? warm.oz[k] : law.nz[k];
+      law.cx[k] = w ? warm.cx[k] : law.cx[k];
+      law.cy[k] = w ? warm.cy[k] : law.cy[k];
+      law.cz[k] = w ? warm.cz[k] : law.cz[k];
+    }
+  }
+};
+
 /// Geometry of entry e (owner i, branch d, |d|^2 = dist2) with a spheroid,
 /// one pair at a time: the separation certificate g(n) < 0 at the warm
 /// start (or along d/|d|) proves the pair apart without iterating (the cache
@@ -145,18 +185,19 @@ PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t 
 /// clock, ContactForces::set_motion_clock), and
 /// drops the solver cache of every other pair (so the cache of a pair
 /// depends only on its own history while in reach: a restart, which
-/// rebuilds the list, continues bit for bit). Pass 2, kBlock pairs at a
-/// time, first their geometry: a sphere-sphere pair takes the closed form
-/// (delta = R_i + R_j - |d|, n = d/|d|, contact point x_i + (R_i - delta/2) n);
-/// a pair with a spheroid and a warm cache goes to the warm lanes
-/// (spheroid_warm_lanes.h: the separation certificate at the warm start and
-/// one Newton step, 8 pairs at a time as SIMD), and one those cannot settle,
-/// or without a warm cache, to scalar_geometry (the certificate, then the
-/// common-normal solver of spheroid_contact.h; a sphere enters it as a
-/// spheroid with a = b = R). Each pair's geometry depends only on its own
-/// inputs, whichever group takes it. Then, in list order, Hertz-Mindlin
+/// rebuilds the list, continues bit for bit). Pass 2, kLawLanes pairs at a
+/// time in list order (PairGroup), first their geometry: a sphere-sphere
+/// pair takes the closed form (delta = R_i + R_j - |d|, n = d/|d|, contact
+/// point x_i + (R_i - delta/2) n); a pair with a spheroid and a warm cache
+/// goes to the warm lanes (spheroid_warm_lanes.h: the separation certificate
+/// at the warm start and one Newton step, 8 pairs at a time as SIMD), and
+/// one those cannot settle, or without a warm cache, to scalar_geometry (the
+/// certificate, then the common-normal solver of spheroid_contact.h; a
+/// sphere enters it as a spheroid with a = b = R). Each pair's geometry
+/// depends only on its own inputs, whichever group takes it. Then, stored
+/// and summed in list order, Hertz-Mindlin
 /// with R_i the average radius (a + 2b)/3 (eq. 104; R for a sphere) at the
-/// contact point c (relative to x_i), kLawLanes contacts at a time:
+/// contact point c (relative to x_i), as SIMD over the group:
 ///   v_c = v_j - v_i + L d + w_j x (c - d) - w_i x c,
 ///   T_i = c x F_on_i,  T_j = (c - d) x F_on_j,
 /// so normal forces give moments on spheroids.
@@ -218,158 +259,150 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     sp.cache.reset();
   }
 
-  // Pass 2: the pairs in reach and awake, in list order, kBlock at a time:
-  // first the geometry of the block (the warm spheroid pairs 8 at a time as
-  // SIMD), then the contact law of each pair in list order.
+  // Pass 2: the pairs in reach and awake, in list order, kLawLanes at a time
+  // (PairGroup): geometry, then the contact law, then stores and sums.
   ChunkSums sums;
   SpheroidContactStats& stats = sums.acc.spheroid;
   stats.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
-  PairGeometry geo[kBlock];
-  LawLanes L;
-  std::int32_t law_e[kLawLanes];
-  SpheroidWarmLanes lanes;
-  std::int32_t lane_c[SpheroidWarmLanes::kLanes];
+  PairGroup g;
   Vec3 sink_f, sink_t;  // the sums of partners that are not home
   const double tolerance = SpheroidContactOptions{}.step_tolerance;
-  for (std::int32_t c0 = 0; c0 < nc; c0 += kBlock) {
-    const std::int32_t c1 = std::min(nc, c0 + kBlock);
-    int queued = 0;
-    const auto run_lanes = [&]() {
-      for (int k = queued; k < SpheroidWarmLanes::kLanes; ++k) lanes.repeat(0, k);
-      solve_spheroid_warm_lanes(lanes, tolerance);
-      for (int k = 0; k < queued; ++k) {
-        const std::int32_t c = lane_c[k];
-        const std::int32_t e = c_entry[c];
-        PairGeometry& gm = geo[c - c0];
-        switch (lanes.outcome(k)) {
+  // A pair in reach and not in contact: cleared, and asleep on half its gap
+  // less a floor for the rounding of g (~eps (a_i + a_j)) and of the clock
+  // (~eps C).
+  const auto part = [&](std::int32_t e, std::int32_t i, std::int32_t j, double gap) {
+    in.state[e] = PairState{};
+    in.spring[e] = Vec3{};
+    SpheroidPairState& sp = in.sph[e];
+    sp.torque_i = Vec3{};
+    const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.body[i].bound + in.body[j].bound + in.clock);
+    if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
+  };
+  const auto run_group = [&]() {
+    const int n = g.n;
+    bool warm = false;
+    for (int k = 0; k < n; ++k) warm |= g.known[k] == 0.0;
+    if (warm) {
+      for (int k = n; k < kLawLanes; ++k) g.warm.repeat(0, k);
+      solve_spheroid_warm_lanes(g.warm, tolerance);
+      g.take_warm_geometry();
+      for (int k = 0; k < n; ++k) {
+        if (g.known[k] != 0.0) continue;
+        const std::int32_t e = g.entry[k];
+        switch (g.warm.outcome(k)) {
           case WarmOutcome::Apart:
-            gm.delta = -1.0;
-            gm.gap = lanes.gap[k];
+            g.contact[k] = false;
+            g.gap[k] = g.warm.gap[k];
             break;
           case WarmOutcome::Solved:
             count_warm_solve(stats);
-            gm.delta = lanes.delta[k];
-            gm.gap = -gm.delta;
-            gm.nrm = lanes.normal(k);
-            gm.cpt = lanes.contact_point(k);
-            if (gm.delta > 0.0) advance_cache(in.sph[e].cache, gm.nrm);
+            g.contact[k] = g.warm.delta[k] > 0.0;
+            g.gap[k] = -g.warm.delta[k];
+            if (g.contact[k]) advance_cache(in.sph[e].cache, g.warm.normal(k));
             break;
-          case WarmOutcome::Scalar:
-            gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], stats);
+          case WarmOutcome::Scalar: {
+            const std::int32_t c = g.list_index[k];
+            const PairGeometry gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], stats);
+            g.contact[k] = gm.delta > 0.0;
+            g.gap[k] = gm.gap;
+            if (g.contact[k]) g.set_geometry(k, gm);
             break;
+          }
         }
-      }
-      queued = 0;
-    };
-    for (std::int32_t c = c0; c < c1; ++c) {
-      if (c + kPrefetchContacts < nc) {
-        const std::int32_t ep = c_entry[c + kPrefetchContacts];
-        const std::int32_t jp = in.partner[ep];
-        __builtin_prefetch(in.body + jp);
-        __builtin_prefetch(in.sph + ep, 1);
-        // for the law below, once the block's geometry is done
-        __builtin_prefetch(in.vel + jp);
-        __builtin_prefetch(in.omg + jp);
-        __builtin_prefetch(in.radii + jp);
-      }
-      const std::int32_t e = c_entry[c];
-      const std::int32_t i = in.owner[e];
-      const std::int32_t j = in.partner[e];
-      const Vec3 d = c_branch[c];
-      if (in.shape[i] != Shape::Spheroid && in.shape[j] != Shape::Spheroid) {
-        PairGeometry& gm = geo[c - c0];
-        const double dist = std::sqrt(c_dist2[c]);
-        gm.delta = in.rad[i] + in.rad[j] - dist;
-        gm.nrm = (1.0 / dist) * d;
-        gm.cpt = (in.rad[i] - 0.5 * gm.delta) * gm.nrm;
-        gm.gap = -gm.delta;
-      } else if (in.sph[e].cache.valid) {
-        lanes.set(queued, in.body[i], in.body[j], d, in.sph[e].cache);
-        lane_c[queued++] = c;
-        if (queued == SpheroidWarmLanes::kLanes) run_lanes();
-      } else {
-        geo[c - c0] = scalar_geometry(in, i, e, d, c_dist2[c], stats);
       }
     }
-    if (queued > 0) run_lanes();
-
-    // The law: pairs not in contact cleared (and put to sleep) at once,
-    // contacts kLawLanes at a time, stored and summed in list order.
-    int nlaw = 0;
-    const auto run_law = [&]() {
-      for (int k = nlaw; k < kLawLanes; ++k) L.repeat(0, k);
-      spheroid_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
-      for (int k = 0; k < nlaw; ++k) {
-        const std::int32_t e = law_e[k], i = in.owner[e], j = in.partner[e];
-        const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
-        const Vec3 mj{L.mjx[k], L.mjy[k], L.mjz[k]};
-        const Vec3 mi{L.mix[k], L.miy[k], L.miz[k]};
-        PairState& st = in.state[e];
-        store(st.force, f);
-        store(st.moment_axis, mj);  // here: the moment on j (see SpheroidPairState)
-        st.half_overlap = 0.5 * L.delta[k];
-        store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
-        store(in.sph[e].torque_i, mi);
-        in.active[e] = 1;
-        if (in.force_out) {  // the gather's arithmetic, in the gather's order
-          in.force_out[i] -= f;
-          in.torque_out[i] += mi;
-          // a partner of another thread's run: completed after the pair
-          // loops (SplitSums::edge_particles, edge_tails)
-          const bool home = in.home(j);
-          Vec3& fj = home ? in.force_out[j] : sink_f;
-          Vec3& tj = home ? in.torque_out[j] : sink_t;
-          fj += f;
-          tj += mj;
-        }
-        sums.add<Measure, Viscous>(L, k, f, dt);
-      }
-      contacts += nlaw;
-      nlaw = 0;
-    };
-    for (std::int32_t c = c0; c < c1; ++c) {
-      if (c + kPrefetchContacts < c1) {
-        const std::int32_t ep = c_entry[c + kPrefetchContacts];
-        __builtin_prefetch(in.state + ep, 1);
-        __builtin_prefetch(in.spring + ep, 1);
-        if (in.force_out) {
-          __builtin_prefetch(in.force_out + in.partner[ep], 1);
-          __builtin_prefetch(in.torque_out + in.partner[ep], 1);
-        }
-      }
-      const std::int32_t e = c_entry[c];
-      const std::int32_t i = in.owner[e];
-      const std::int32_t j = in.partner[e];
-      const PairGeometry& gm = geo[c - c0];
-      if (!(gm.delta > 0.0)) {  // in reach, not in contact
-        in.state[e] = PairState{};
-        in.spring[e] = Vec3{};
-        SpheroidPairState& sp = in.sph[e];
-        sp.torque_i = Vec3{};
-        // Sleep on half the gap, less a floor for the rounding of g (~eps
-        // (a_i + a_j)) and of the clock (~eps C).
-        const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.body[i].bound + in.body[j].bound + in.clock);
-        if (in.sleep && gm.gap > floor) sp.wake = in.clock + 0.5 * (gm.gap - floor);
+    for (int k = n; k < kLawLanes; ++k) g.law.repeat(0, k);
+    spheroid_contact_lanes<Viscous>(g.law, lgrad, law, dt, in.viscous_a);
+    const LawLanes& L = g.law;
+    for (int k = 0; k < n; ++k) {
+      const std::int32_t e = g.entry[k], i = in.owner[e], j = in.partner[e];
+      if (!g.contact[k]) {
+        part(e, i, j, g.gap[k]);
         continue;
       }
-      const int k = nlaw;
-      law_e[k] = e;
-      const Vec3 d = c_branch[c];
-      L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
-      L.delta[k] = gm.delta;
-      L.nx[k] = gm.nrm.x; L.ny[k] = gm.nrm.y; L.nz[k] = gm.nrm.z;
-      L.cx[k] = gm.cpt.x; L.cy[k] = gm.cpt.y; L.cz[k] = gm.cpt.z;
-      // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
-      const ContactRadii ri = in.radii[i], rj = in.radii[j];
-      L.ri[k] = ri.hertz;
-      L.rj[k] = rj.hertz;
-      L.minor[k] = std::min(ri.minor, rj.minor);
-      set_motion<Viscous>(L, k, in, e, i, j);
-      if (++nlaw == kLawLanes) run_law();
+      const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
+      const Vec3 mj{L.mjx[k], L.mjy[k], L.mjz[k]};
+      const Vec3 mi{L.mix[k], L.miy[k], L.miz[k]};
+      PairState& st = in.state[e];
+      store(st.force, f);
+      store(st.moment_axis, mj);  // here: the moment on j (see SpheroidPairState)
+      st.half_overlap = 0.5 * L.delta[k];
+      store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
+      store(in.sph[e].torque_i, mi);
+      in.active[e] = 1;
+      if (in.force_out) {  // the gather's arithmetic, in the gather's order
+        in.force_out[i] -= f;
+        in.torque_out[i] += mi;
+        // a partner of another thread's run: completed after the pair
+        // loops (SplitSums::edge_particles, edge_tails)
+        const bool home = in.home(j);
+        Vec3& fj = home ? in.force_out[j] : sink_f;
+        Vec3& tj = home ? in.torque_out[j] : sink_t;
+        fj += f;
+        tj += mj;
+      }
+      sums.add<Measure, Viscous>(L, k, f, dt);
+      ++contacts;
     }
-    if (nlaw > 0) run_law();
+    g.n = 0;
+  };
+  for (std::int32_t c = 0; c < nc; ++c) {
+    if (c + kPrefetchContacts < nc) {
+      const std::int32_t ep = c_entry[c + kPrefetchContacts];
+      const std::int32_t jp = in.partner[ep];
+      __builtin_prefetch(in.body + jp);
+      __builtin_prefetch(in.sph + ep, 1);
+      __builtin_prefetch(in.vel + jp);
+      __builtin_prefetch(in.omg + jp);
+      __builtin_prefetch(in.radii + jp);
+      __builtin_prefetch(in.state + ep, 1);
+      __builtin_prefetch(in.spring + ep, 1);
+      if (in.force_out) {
+        __builtin_prefetch(in.force_out + jp, 1);
+        __builtin_prefetch(in.torque_out + jp, 1);
+      }
+    }
+    const std::int32_t e = c_entry[c];
+    const std::int32_t i = in.owner[e];
+    const std::int32_t j = in.partner[e];
+    const Vec3 d = c_branch[c];
+    const int k = g.n;
+    if (in.shape[i] != Shape::Spheroid && in.shape[j] != Shape::Spheroid) {
+      PairGeometry gm;
+      const double dist = std::sqrt(c_dist2[c]);
+      gm.delta = in.rad[i] + in.rad[j] - dist;
+      if (!(gm.delta > 0.0)) {
+        part(e, i, j, -gm.delta);
+        continue;
+      }
+      gm.nrm = (1.0 / dist) * d;
+      gm.cpt = (in.rad[i] - 0.5 * gm.delta) * gm.nrm;
+      g.set_geometry(k, gm);
+    } else if (in.sph[e].cache.valid) {
+      g.warm.set(k, in.body[i], in.body[j], d, in.sph[e].cache);
+      g.known[k] = 0.0;
+    } else {
+      const PairGeometry gm = scalar_geometry(in, i, e, d, c_dist2[c], stats);
+      if (!(gm.delta > 0.0)) {
+        part(e, i, j, gm.gap);
+        continue;
+      }
+      g.set_geometry(k, gm);
+    }
+    g.entry[k] = e;
+    g.list_index[k] = c;
+    LawLanes& L = g.law;
+    L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
+    // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
+    const ContactRadii ri = in.radii[i], rj = in.radii[j];
+    L.ri[k] = ri.hertz;
+    L.rj[k] = rj.hertz;
+    L.minor[k] = std::min(ri.minor, rj.minor);
+    set_motion<Viscous>(L, k, in, e, i, j);
+    if (++g.n == kLawLanes) run_group();
   }
+  if (g.n > 0) run_group();
   return sums.finish(contacts);
 }
 

@@ -307,6 +307,50 @@ TEST(SpheroidAcceptance, AspectOneSpheroidsReproduceTheSpherePath) {
   EXPECT_EQ(b.spheroid_contact_stats().fallbacks, 0u);
 }
 
+// Spheres and spheroids of aspect 1 mixed (every other particle a Shape::Sphere)
+// take the spheroid pair kernel through all its geometry paths: sphere pairs
+// by the closed form, the other pairs by the solver (first step, no cache)
+// and then by the warm lanes (second step), queued together in the same
+// groups of lanes. Each must give the sphere path's forces: at the first
+// step to rounding, at the second (after a step whose rounding differs
+// between the runs) to 1e-9 of the largest force; a pair's result put in
+// another pair's lane would be off by the size of a force.
+TEST(SpheroidAcceptance, MixedSpheresAndAspectOneSpheroidsReproduceTheSpherePath) {
+  vt::test::CloudScene sc = vt::test::polydisperse_cloud(400, 1.8, 5);
+  SimulationSettings st = vt::test::undamped(0.3, 0.5);
+  st.damping = MassDamping(DampingModel::ND, 0.02);
+  Simulation prep(std::move(sc.particles), sc.cell, st);
+  prep.set_strain_rates(Vec3{-1, -1, -1} * (4e-4 / prep.time_scale().t0));
+  ASSERT_EQ(prep.run(1200), 1200) << prep.failure();
+  const SimulationState s = prep.state();
+  const PeriodicCell cell(s.h, s.h_reference);
+  Particles spheres, mixed;
+  RandomStream rng(23);
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const Vec3 v{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    const Vec3 w{1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1)};
+    const double r = s.particles.radius[i];
+    spheres.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
+    if (i % 2 == 0)
+      mixed.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
+    else
+      mixed.add_spheroid(s.particles.id[i], r, r, kRho, s.particles.frac[i], random_orientation(rng), v, w);
+  }
+  Simulation a(std::move(spheres), cell, st), b(std::move(mixed), cell, st);
+  for (int step = 1; step <= 2; ++step) {
+    ASSERT_TRUE(a.step(true));
+    ASSERT_TRUE(b.step(true));
+    ASSERT_GT(a.measures().contacts, 300) << "the test needs a dense packing";
+    EXPECT_EQ(a.measures().contacts, b.measures().contacts) << "step " << step;
+    const double fs = max_norm(a.forces()), ts = max_norm(a.torques());
+    const double tol = step == 1 ? 1e-11 : 1e-9;
+    EXPECT_LT(max_diff(a.forces(), b.forces()), tol * fs) << "step " << step;
+    EXPECT_LT(max_diff(a.torques(), b.torques()), tol * ts) << "step " << step;
+  }
+  EXPECT_GT(b.spheroid_contact_stats().warm_starts, 300u) << "the second step's pairs went through the warm lanes";
+  EXPECT_EQ(b.spheroid_contact_stats().fallbacks, 0u);
+}
+
 // ---- step 3: rotation through the simulation ---------------------------------------
 
 TEST(SpheroidRotation, FreeTiltedSpinnerKeepsAngularMomentumAndPrecessesAtLOverIperp) {
