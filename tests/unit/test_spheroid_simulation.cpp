@@ -245,26 +245,54 @@ TEST(SpheroidContactForces, SwappingIdsKeepsForcesAndRotatingThePairRotatesForce
 
 // ---- acceptance (a): a sphere given as a spheroid of aspect 1 -----------------------
 
-TEST(SpheroidAcceptance, AspectOneSpheroidsReproduceTheSpherePath) {
-  // A dense random packing of spheres with friction, random motion.
+namespace {
+
+/// A dense random packing of 400 spheres with friction (compacted by an
+/// isotropic strain), and the settings it was made with.
+struct DenseSpheres {
+  SimulationState state;
+  SimulationSettings settings;
+};
+DenseSpheres dense_frictional_spheres() {
   vt::test::CloudScene sc = vt::test::polydisperse_cloud(400, 1.8, 5);
   SimulationSettings st = vt::test::undamped(0.3, 0.5);
   st.damping = MassDamping(DampingModel::ND, 0.02);
   Simulation prep(std::move(sc.particles), sc.cell, st);
   prep.set_strain_rates(Vec3{-1, -1, -1} * (4e-4 / prep.time_scale().t0));
-  ASSERT_EQ(prep.run(1200), 1200) << prep.failure();
-  const SimulationState s = prep.state();
-  const PeriodicCell cell(s.h, s.h_reference);
-  Particles spheres, spheroids;
-  RandomStream rng(17);
+  EXPECT_EQ(prep.run(1200), 1200) << prep.failure();
+  return {prep.state(), st};
+}
+
+/// The packing's particles with random velocities and spins (seed), twice:
+/// all spheres, and with each particle i where spheroid(i) holds an aspect-1
+/// spheroid of random orientation instead.
+template <class Pick>
+std::pair<Particles, Particles> moving_copies(const SimulationState& s, std::uint64_t seed, Pick spheroid) {
+  Particles spheres, other;
+  RandomStream rng(seed);
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const Vec3 v{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
     const Vec3 w{1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1)};
     const double r = s.particles.radius[i];
+    const Quaternion q = random_orientation(rng);
     spheres.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
-    spheroids.add_spheroid(s.particles.id[i], r, r, kRho, s.particles.frac[i],
-                           random_orientation(rng), v, w);
+    if (spheroid(i))
+      other.add_spheroid(s.particles.id[i], r, r, kRho, s.particles.frac[i], q, v, w);
+    else
+      other.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
   }
+  return {std::move(spheres), std::move(other)};
+}
+
+}  // namespace
+
+TEST(SpheroidAcceptance, AspectOneSpheroidsReproduceTheSpherePath) {
+  // A dense random packing of spheres with friction, random motion.
+  const DenseSpheres dense = dense_frictional_spheres();
+  const SimulationState& s = dense.state;
+  const SimulationSettings& st = dense.settings;
+  const PeriodicCell cell(s.h, s.h_reference);
+  auto [spheres, spheroids] = moving_copies(s, 17, [](std::size_t) { return true; });
   Simulation a(std::move(spheres), cell, st), b(std::move(spheroids), cell, st);
   ASSERT_TRUE(a.step(true));
   ASSERT_TRUE(b.step(true));
@@ -316,26 +344,11 @@ TEST(SpheroidAcceptance, AspectOneSpheroidsReproduceTheSpherePath) {
 // between the runs) to 1e-9 of the largest force; a pair's result put in
 // another pair's lane would be off by the size of a force.
 TEST(SpheroidAcceptance, MixedSpheresAndAspectOneSpheroidsReproduceTheSpherePath) {
-  vt::test::CloudScene sc = vt::test::polydisperse_cloud(400, 1.8, 5);
-  SimulationSettings st = vt::test::undamped(0.3, 0.5);
-  st.damping = MassDamping(DampingModel::ND, 0.02);
-  Simulation prep(std::move(sc.particles), sc.cell, st);
-  prep.set_strain_rates(Vec3{-1, -1, -1} * (4e-4 / prep.time_scale().t0));
-  ASSERT_EQ(prep.run(1200), 1200) << prep.failure();
-  const SimulationState s = prep.state();
+  const DenseSpheres dense = dense_frictional_spheres();
+  const SimulationState& s = dense.state;
+  const SimulationSettings& st = dense.settings;
   const PeriodicCell cell(s.h, s.h_reference);
-  Particles spheres, mixed;
-  RandomStream rng(23);
-  for (std::size_t i = 0; i < s.particles.size(); ++i) {
-    const Vec3 v{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
-    const Vec3 w{1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1), 1e3 * rng.uniform(-1, 1)};
-    const double r = s.particles.radius[i];
-    spheres.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
-    if (i % 2 == 0)
-      mixed.add_sphere(s.particles.id[i], r, kRho, s.particles.frac[i], v, w);
-    else
-      mixed.add_spheroid(s.particles.id[i], r, r, kRho, s.particles.frac[i], random_orientation(rng), v, w);
-  }
+  auto [spheres, mixed] = moving_copies(s, 23, [](std::size_t i) { return i % 2 == 1; });
   Simulation a(std::move(spheres), cell, st), b(std::move(mixed), cell, st);
   for (int step = 1; step <= 2; ++step) {
     ASSERT_TRUE(a.step(true));
