@@ -28,11 +28,12 @@ inline void count_warm_solve(SpheroidContactStats& stats) {
   ++stats.iterations;
 }
 
-/// Contacts of the spheroid pair loop taken kLanes at a time, as the sphere
-/// loop takes its contacts (sphere_pairs.cpp): the inputs of each gathered
-/// into arrays, the contact law computed by one loop without jumps over the
-/// lanes (SIMD), the results then stored and summed one contact at a time in
-/// list order. Unused lanes of the last group repeat its first contact.
+/// Pairs of the spheroid pair loop taken kLawLanes at a time (PairGroup
+/// below), as the sphere loop takes its contacts (sphere_pairs.cpp): the
+/// inputs of each gathered into arrays, the contact law computed by one loop
+/// without jumps over the lanes (SIMD), the results then stored and summed
+/// one pair at a time in list order. Unused lanes of a partial group repeat
+/// its first lane.
 constexpr int kLawLanes = 8;
 struct LawLanes {
   // inputs
