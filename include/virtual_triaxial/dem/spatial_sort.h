@@ -29,12 +29,13 @@
 // the cell's longest axis makes those planes, and the pairs that cross the
 // threads' runs, the fewest (12 000 spheres tiled 3x2x2: 560 edge particles
 // and 497 tails instead of 819 and 856 with slabs across the shorter s_3).
-// Measured interleaved (bench/ab_builds.sh, us per particle-step; data in
-// bench/results/2026-12-03-s24/experiments.txt), Morton -> slabs across
-// s_3: 10^5 spheres one thread 0.133 -> 0.101 (0.786x), two threads 0.071 ->
-// 0.054 (0.760x); 12 000 spheres 0.960x on one and on two threads; 12 000
-// spheroids one thread 0.928x; then slabs across s_3 -> across the longest
-// axis: 12 000 spheres two threads 0.911x, one 0.993x; 10^5 two 0.979x.
+// Measured interleaved (bench/ab_builds.sh as fixed in session 25, us per
+// particle-step; bench/results/2026-12-03-s25/experiments.txt R1), Morton
+// -> slabs across the longest axis: 10^5 spheres 0.945x and 0.964x on one
+// thread, 0.827x on two; 12 000 spheres 0.996x on one, 0.866x on two;
+// 12 000 spheroids 1.001x on one. (Session 24's figures, 0.786x at 10^5 on
+// one thread and others, were measured on another host with the script's
+// bias: each row compared one build's mean with the other's median step.)
 // Ids travel with their particles, so contact history (keyed by ids) and
 // thread-count independence are unaffected. It does change the list order,
 // which is the order of the per-particle force sums, and which particles
