@@ -28,6 +28,16 @@ inline void count_warm_solve(SpheroidContactStats& stats) {
   ++stats.iterations;
 }
 
+/// Entry e without a contact: no force, moments or spring (its cache and
+/// wake time are the caller's); returns its spheroid state.
+inline SpheroidPairState& clear_contact(const PairInputs& in, std::int32_t e) {
+  in.state[e] = PairState{};
+  in.spring[e] = Vec3{};
+  SpheroidPairState& sp = in.sph[e];
+  sp.torque_i = Vec3{};
+  return sp;
+}
+
 /// Pairs of the spheroid pair loop taken kLawLanes at a time (PairGroup
 /// below), as the sphere loop takes its contacts (sphere_pairs.cpp): the
 /// inputs of each gathered into arrays, the contact law computed by one loop
@@ -252,10 +262,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // |d| < a_i + a_j). An entry without a contact already holds zeros.
   for (std::int32_t k = 0; k < ns; ++k) {
     const std::int32_t e = s_entry[k];
-    in.state[e] = PairState{};
-    in.spring[e] = Vec3{};
-    SpheroidPairState& sp = in.sph[e];
-    sp.torque_i = Vec3{};
+    SpheroidPairState& sp = clear_contact(in, e);
     sp.wake = 0.0;
     sp.cache.reset();
   }
@@ -273,10 +280,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // less a floor for the rounding of g (~eps (a_i + a_j)) and of the clock
   // (~eps C).
   const auto part = [&](std::int32_t e, std::int32_t i, std::int32_t j, double gap) {
-    in.state[e] = PairState{};
-    in.spring[e] = Vec3{};
-    SpheroidPairState& sp = in.sph[e];
-    sp.torque_i = Vec3{};
+    SpheroidPairState& sp = clear_contact(in, e);
     const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.body[i].bound + in.body[j].bound + in.clock);
     if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
   };
