@@ -171,7 +171,8 @@ def main():
     if not shutil.which(a.lmp):
         sys.exit(f"lammps_side_by_side: '{a.lmp}' not found: install Debian's LAMMPS (apt-get install lammps "
                  "openmpi-bin) or give --lmp")
-    out = a.out or tempfile.mkdtemp(prefix="vt_lammps_")
+    # absolute: LAMMPS runs in it and reads the data file by this path
+    out = os.path.abspath(a.out or tempfile.mkdtemp(prefix="vt_lammps_"))
     os.makedirs(out, exist_ok=True)
     s = sample_facts(a.sample)
     data = os.path.join(out, "sample.data")
