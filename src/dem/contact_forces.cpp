@@ -50,14 +50,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const bool spheroids = list.has_spheroids();
   if (spheroids && pd.spheroid.size() != pd.size())
     throw std::logic_error("contact forces: neighbour list without spheroid pair states");
-  if (spheroids) {
-    bodies_.resize(n);
-    radii_.resize(n);
-  }
+  if (spheroids) bodies_.resize(n);
   PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                     p.radius.data(),   list.offsets().data(), list.owners().data(),
                     pd.partner.data(), pd.spring.data(),      pd.state.data(),
-                    pd.active.data(),  bodies_.data(),        radii_.data(),
+                    pd.active.data(),  bodies_.data(),
                     sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                     p.shape.data(),    pd.spheroid.data(),    cell.h(),
                     cell.velocity_gradient(),                 law,
@@ -131,12 +128,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     const Vec3* axes = p.semi_axes.data();
     const Quaternion* orient = p.orientation.data();
     const Shape* shape = p.shape.data();
-    SpheroidSupport* body = bodies_.data();
-    ContactRadii* radii = radii_.data();
+    PairBody* body = bodies_.data();
     for (std::int32_t i = i0; i < i1; ++i) {
-      body[i] = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
+      body[i].support = SpheroidSupport::of(Spheroid::from_semi_axes(axes[i], orient[i]));
       const bool spheroid = shape[i] == Shape::Spheroid;
-      radii[i] = {spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i], spheroid ? axes[i].y : rad[i]};
+      body[i].radii = {spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i], spheroid ? axes[i].y : rad[i]};
     }
   };
   // Particles with spheroids: the moment on the partner is in the pair state (one line

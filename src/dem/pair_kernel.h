@@ -46,8 +46,7 @@ struct PairInputs {
   PairState* state;
   std::uint8_t* active;
   // spheroid path only (null/unused for spheres)
-  const SpheroidSupport* body;  // per particle, this evaluation (bound: a >= b, the reach)
-  const ContactRadii* radii;    // per particle: R_i of eq. 104 and b, this evaluation
+  const PairBody* body;  // per particle, this evaluation: support (bound: a >= b, the reach) and radii
   double clock;                 // motion clock [m] (ContactForces::set_motion_clock); +inf: no sleep
   bool sleep;                   // pairs found apart sleep
   const Shape* shape;

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "pair_kernel.h"
+#include "virtual_triaxial/dem/pair_body.h"
 #include "virtual_triaxial/dem/spheroid_warm_lanes.h"
 
 namespace vt::dem::pairs {
@@ -122,7 +123,26 @@ struct PairGroup {
   double gap[kLawLanes] = {};    ///< not in contact: as PairGeometry::gap [m]
   std::int32_t entry[kLawLanes] = {};
   std::int32_t list_index[kLawLanes] = {};  ///< c: the pair's place among the pairs in reach
+  std::int32_t owner[kLawLanes] = {}, partner[kLawLanes] = {};
+  double minor_i[kLawLanes], minor_j[kLawLanes];  ///< b of each body [m]
   int n = 0;                                ///< lanes queued
+
+  /// The bodies of every lane (PairBody lines of the owners and partners;
+  /// unused lanes repeat lane 0) into the warm lanes and the law's radii,
+  /// eight lanes at a time (pair_body.h).
+  void set_bodies(const PairBody* body) {
+    for (int k = n; k < kLawLanes; ++k) {
+      owner[k] = owner[0];
+      partner[k] = partner[0];
+    }
+    double* const of_i[PairBody::kFields] = {warm.bi2, warm.ki,      warm.eix, warm.eiy,
+                                             warm.eiz, warm.bound_i, law.ri,   minor_i};
+    double* const of_j[PairBody::kFields] = {warm.bj2, warm.kj,      warm.ejx, warm.ejy,
+                                             warm.ejz, warm.bound_j, law.rj,   minor_j};
+    body_lanes(body, owner, of_i);
+    body_lanes(body, partner, of_j);
+    for (int k = 0; k < kLawLanes; ++k) law.minor[k] = std::min(minor_i[k], minor_j[k]);
+  }
 
   /// Lane k's contact geometry, known now.
   void set_geometry(int k, const PairGeometry& gm) {
@@ -156,8 +176,8 @@ struct PairGroup {
 /// result only for a contact.
 PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t e, const Vec3& d, double dist2,
                              SpheroidContactStats& stats) {
-  const SpheroidSupport& si = in.body[i];
-  const SpheroidSupport& sj = in.body[in.partner[e]];
+  const SpheroidSupport& si = in.body[i].support;
+  const SpheroidSupport& sj = in.body[in.partner[e]].support;
   SpheroidContactCache& cache = in.sph[e].cache;
   PairGeometry gm;
   // A solve from the warm start reuses the support values found there.
@@ -190,7 +210,7 @@ PairGeometry scalar_geometry(const PairInputs& in, std::int32_t i, std::int32_t 
 }
 
 /// Pairs owned by particles [i_begin, i_end) when the particles include
-/// spheroids (in.body: SpheroidSupport of every particle, this evaluation).
+/// spheroids (in.body: PairBody of every particle, this evaluation).
 /// Pass 1 keeps the pairs whose bounding spheres (radius bound = a) overlap, except
 /// those asleep (found apart earlier and certified apart since by the motion
 /// clock, ContactForces::set_motion_clock), and
@@ -237,7 +257,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     const Vec3 ds = PeriodicCell::minimum_image(in.frac[j] - in.frac[i]);
     const Vec3 d = h * ds;
     const double dist2 = norm2(d);
-    const double reach = in.body[i].bound + in.body[j].bound;  // a_i + a_j (a >= b)
+    const double reach = in.body[i].support.bound + in.body[j].support.bound;  // a_i + a_j (a >= b)
     // Both tests are coin flips for the branch predictor, so they are
     // combined as integers (&, no short-circuit branch).
     const std::int32_t in_reach = dist2 < reach * reach ? 1 : 0;
@@ -281,11 +301,13 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // (~eps C).
   const auto part = [&](std::int32_t e, std::int32_t i, std::int32_t j, double gap) {
     SpheroidPairState& sp = clear_contact(in, e);
-    const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (in.body[i].bound + in.body[j].bound + in.clock);
+    const double reach = in.body[i].support.bound + in.body[j].support.bound;
+    const double floor = 64.0 * std::numeric_limits<double>::epsilon() * (reach + in.clock);
     if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
   };
   const auto run_group = [&]() {
     const int n = g.n;
+    g.set_bodies(in.body);
     bool warm = false;
     for (int k = 0; k < n; ++k) warm |= g.known[k] == 0.0;
     if (warm) {
@@ -360,7 +382,6 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       __builtin_prefetch(in.sph + ep, 1);
       __builtin_prefetch(in.vel + jp);
       __builtin_prefetch(in.omg + jp);
-      __builtin_prefetch(in.radii + jp);
       __builtin_prefetch(in.state + ep, 1);
       __builtin_prefetch(in.spring + ep, 1);
       if (in.force_out) {
@@ -385,7 +406,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       gm.cpt = (in.rad[i] - 0.5 * gm.delta) * gm.nrm;
       g.set_geometry(k, gm);
     } else if (in.sph[e].cache.valid) {
-      g.warm.set(k, in.body[i], in.body[j], d, in.sph[e].cache);
+      g.warm.set_pair(k, d, in.sph[e].cache);
       g.known[k] = 0.0;
     } else {
       const PairGeometry gm = scalar_geometry(in, i, e, d, c_dist2[c], stats);
@@ -397,13 +418,12 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     }
     g.entry[k] = e;
     g.list_index[k] = c;
+    // the bodies and radii (eq. 104 with the average radius (a + 2b)/3; a
+    // sphere keeps R exactly) when the group runs (PairGroup::set_bodies)
+    g.owner[k] = i;
+    g.partner[k] = j;
     LawLanes& L = g.law;
     L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
-    // eq. 104 with the average radius (a + 2b)/3; a sphere keeps R exactly
-    const ContactRadii ri = in.radii[i], rj = in.radii[j];
-    L.ri[k] = ri.hertz;
-    L.rj[k] = rj.hertz;
-    L.minor[k] = std::min(ri.minor, rj.minor);
     set_motion<Viscous>(L, k, in, e, i, j);
     if (++g.n == kLawLanes) run_group();
   }

@@ -102,19 +102,12 @@
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
 #include "virtual_triaxial/dem/phase_times.h"
+#include "virtual_triaxial/dem/pair_body.h"
 #include "virtual_triaxial/dem/spheroid_contact.h"
 #include "virtual_triaxial/dem/split_sums.h"
 #include "virtual_triaxial/dem/viscous_contact_damping.h"
 
 namespace vt::dem {
-
-/// Per-particle radii the spheroid contact law reads for a partner (one
-/// line with both): R_i of eq. 104, the average radius (a + 2b)/3 (R for a
-/// sphere), and the minor semi-axis b (R for a sphere) [m].
-struct ContactRadii {
-  double hertz = 0.0;
-  double minor = 0.0;
-};
 
 /// Sums over all contacts of one force evaluation.
 struct ContactSums {
@@ -207,13 +200,12 @@ class ContactForces {
  private:
   std::vector<ContactSums> chunk_sums_;
   std::vector<Scratch> scratch_;
-  std::vector<SpheroidSupport> bodies_;  ///< spheroid path: per particle, rebuilt every call
+  std::vector<PairBody> bodies_;  ///< spheroid path: per particle, support and radii, rebuilt every call
   double motion_clock_ = 0.0;
   bool sleep_ = false;
   std::size_t pair_loop_bytes_ = 0;
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
-  std::vector<ContactRadii> radii_;      ///< spheroid path: per particle, every call
   SplitSums split_;                      ///< several threads: edge particles and tails
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)

@@ -66,11 +66,16 @@ struct SpheroidWarmLanes {
   /// Lane k: bodies, branch and a valid cache (cache.valid must be true).
   void set(int k, const SpheroidSupport& si, const SpheroidSupport& sj, const Vec3& d,
            const SpheroidContactCache& cache) {
-    dx[k] = d.x; dy[k] = d.y; dz[k] = d.z;
     bi2[k] = si.b2; ki[k] = si.k; bound_i[k] = si.bound;
     eix[k] = si.e.x; eiy[k] = si.e.y; eiz[k] = si.e.z;
     bj2[k] = sj.b2; kj[k] = sj.k; bound_j[k] = sj.bound;
     ejx[k] = sj.e.x; ejy[k] = sj.e.y; ejz[k] = sj.e.z;
+    set_pair(k, d, cache);
+  }
+  /// Lane k without the bodies (set by the caller, e.g. body_lanes of
+  /// pair_body.h into the fields of body_i and body_j): branch and cache.
+  void set_pair(int k, const Vec3& d, const SpheroidContactCache& cache) {
+    dx[k] = d.x; dy[k] = d.y; dz[k] = d.z;
     nx[k] = cache.normal.x; ny[k] = cache.normal.y; nz[k] = cache.normal.z;
     const Vec3 m = cache.has_previous ? cache.previous : cache.normal;
     mx[k] = m.x; my[k] = m.y; mz[k] = m.z;
