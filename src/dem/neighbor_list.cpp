@@ -223,6 +223,18 @@ bool NeighborList::stale(double max_disp2, const PeriodicCell& cell) const {
 }
 
 std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
+  std::vector<ContactHistory> out;
+  histories_into(p, out);
+  return out;
+}
+
+void sort_histories(std::vector<ContactHistory>& h) {
+  std::sort(h.begin(), h.end(), [](const ContactHistory& a, const ContactHistory& b) {
+    return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
+  });
+}
+
+void NeighborList::histories_into(const Particles& p, std::vector<ContactHistory>& out, bool sorted) const {
   const auto kept = [this](std::int32_t e) {
     const Vec3& s = pairs_.spring[e];
     return pairs_.half_overlap[e] != 0.0 || s.x != 0.0 || s.y != 0.0 || s.z != 0.0 ||
@@ -231,24 +243,20 @@ std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
   // Ordered by (id_a, id_b), unique keys: the keys and entries are sorted
   // first and each history is written once in that order (a history is
   // large, and the runners take the state at every sample).
-  struct Key {
-    std::int64_t id_a, id_b;
-    std::int32_t entry;
-  };
-  std::vector<Key> keys;
-  keys.reserve(offsets_.empty() ? 0 : static_cast<std::size_t>(offsets_.back()));
+  std::vector<HistoryKey>& keys = history_keys_;
+  keys.clear();
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e)
       if (kept(e)) keys.push_back({p.id[i], p.id[pairs_.partner[e]], e});
-  std::sort(keys.begin(), keys.end(),
-            [](const Key& a, const Key& b) { return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b; });
-  std::vector<ContactHistory> out;
-  out.reserve(keys.size());
-  for (const Key& k : keys) {
+  if (sorted)
+    std::sort(keys.begin(), keys.end(), [](const HistoryKey& a, const HistoryKey& b) {
+      return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
+    });
+  out.clear();
+  for (const HistoryKey& k : keys) {
     const bool cached = spheroids_ && pairs_.spheroid[k.entry].cache.valid;
     out.push_back({k.id_a, k.id_b, pairs_.spring[k.entry], cached ? pairs_.spheroid[k.entry].cache : SpheroidContactCache{}});
   }
-  return out;
 }
 
 std::size_t NeighborList::restore(const Particles& p, const std::vector<ContactHistory>& hist) {

@@ -349,11 +349,16 @@ Mat3 Simulation::current_stress() const {
 
 SimulationState Simulation::state() const {
   SimulationState s;
-  s.particles = particles_;
+  state_into(s);
+  return s;
+}
+
+void Simulation::state_into(SimulationState& s, bool sorted_contacts) const {
+  s.particles = particles_;  // copy-assignment: each array keeps its storage when large enough
   s.h = cell_.h();
   s.h_reference = cell_.h_reference();
   s.velocity_gradient = cell_.velocity_gradient();
-  s.contacts = list_.histories(particles_);
+  list_.histories_into(particles_, s.contacts, sorted_contacts);
   s.time = time_;
   s.step = steps_;
   s.time_step = time_scale_.dt;
@@ -361,7 +366,6 @@ SimulationState Simulation::state() const {
   s.contact_refresh_virial = refresh_virial_;
   s.energy = energy_;
   s.settings = settings_;
-  return s;
 }
 
 std::string describe_time_step(const Simulation& sim) {

@@ -116,7 +116,7 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
     if (!measured) last = sim_.measures();
     obs.on_sample(st, last);
     judge.record(last, d);
-    if (options_.keep_last_good) report.last_good = sim_.state();
+    if (options_.keep_last_good) keep_last_good(report);
   };
   while (true) {
     const double dt = sim_.dt();  // per tick: the contacts basis refreshes it (dem/contact_time_step.h)
@@ -204,6 +204,11 @@ bool StageRunner::run_stage(const StageSpec& st, std::size_t index, RunObserver&
   return go_on;
 }
 
+void StageRunner::keep_last_good(RunReport& report) const {
+  if (!report.last_good) report.last_good.emplace();
+  sim_.state_into(*report.last_good, false);  // sorted once, when run() returns
+}
+
 RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& observer, const RunCheckpoint* resume) {
   const std::string bad = validate(options_);
   if (!bad.empty()) throw std::invalid_argument("RunOptions: " + bad);
@@ -220,13 +225,14 @@ RunReport StageRunner::run(const std::vector<StageSpec>& stages, RunObserver& ob
     report.ticks = resume->ticks;
     wall_before_ = resume->wall_seconds;
     // The checkpoint was taken on a sample tick: its state is the last good one.
-    if (options_.keep_last_good) report.last_good = sim_.state();
+    if (options_.keep_last_good) keep_last_good(report);
   }
   run_start_ = Clock::now();
   checkpoints_.restart();
   for (std::size_t i = first; i < stages.size(); ++i)
     if (!run_stage(stages[i], i, observer, report, i == first ? resume : nullptr)) break;
   report.wall_seconds = wall_before_ + seconds_since(run_start_);
+  if (report.last_good) dem::sort_histories(report.last_good->contacts);
   return report;
 }
 

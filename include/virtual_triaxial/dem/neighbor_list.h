@@ -128,6 +128,9 @@ struct ContactHistory {
   SpheroidContactCache cache{};     ///< invalid for sphere pairs
 };
 
+/// Orders histories by (id_a, id_b), the order NeighborList::histories gives.
+void sort_histories(std::vector<ContactHistory>& h);
+
 class NeighborList {
  public:
   /// skin [m]: extra distance beyond R_i + R_j kept in the list.
@@ -164,12 +167,24 @@ class NeighborList {
   const PairData& pairs() const { return pairs_; }
 
   /// Contacts with a non-zero spring or overlap, or a valid spheroid solver
-  /// cache, for saving.
+  /// cache, for saving, ordered by (id_a, id_b).
   std::vector<ContactHistory> histories(const Particles& p) const;
+  /// The same into `out`, reusing its storage (and the list's scratch for
+  /// the sort keys): no allocation once the buffers have grown. `sorted` =
+  /// false leaves them in list order, for a caller that sorts them only
+  /// when it uses them (sort_histories; a runner keeping the last good
+  /// state at every sample). Not for concurrent calls on one list.
+  void histories_into(const Particles& p, std::vector<ContactHistory>& out, bool sorted = true) const;
   /// Restore springs after build(); unknown pairs are reported by count.
   std::size_t restore(const Particles& p, const std::vector<ContactHistory>& h);
 
  private:
+  /// A history's sort key (histories_into).
+  struct HistoryKey {
+    std::int64_t id_a, id_b;
+    std::int32_t entry;
+  };
+  mutable std::vector<HistoryKey> history_keys_;  ///< scratch of histories_into
   void build_bins(const Particles& p, const PeriodicCell& cell, double cutoff);
   void collect_candidates(const Particles& p, const PeriodicCell& cell,
                           std::vector<std::vector<std::int32_t>>& per_particle) const;

@@ -123,6 +123,12 @@ class Simulation {
   void reset_strain_reference() { cell_.reset_reference(); }
 
   SimulationState state() const;
+  /// The same into `s`, reusing its storage (its particle arrays and
+  /// contact list keep their capacity; NeighborList::histories_into): what
+  /// a runner that keeps the last good state at every sample calls, with
+  /// `sorted_contacts` = false (the contacts in list order until it sorts
+  /// them by sort_histories).
+  void state_into(SimulationState& s, bool sorted_contacts = true) const;
 
   /// Spheroid samples: let pairs found apart sleep (ContactForces::
   /// set_motion_clock; on by default). Particle states and contact histories

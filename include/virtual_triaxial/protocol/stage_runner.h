@@ -126,6 +126,10 @@ class StageRunner {
   bool run_stage(const StageSpec& stage, std::size_t index, RunObserver& observer, RunReport& report,
                  const RunCheckpoint* resume);
   std::string progress_line(const StageSpec& stage, std::int64_t k, const dem::Measures& m, double rate) const;
+  /// The simulation's state into report.last_good, reusing the storage of
+  /// the one kept before (dem::Simulation::state_into), its contacts in
+  /// list order: run() sorts them once before it returns the report.
+  void keep_last_good(RunReport& report) const;
 
   dem::Simulation& sim_;
   RunOptions options_;
