@@ -122,8 +122,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
     for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
   };
-  // Support data of particles [i0, i1) (symmetry axis e = q (1,0,0)): one
-  // rotation per particle instead of one per particle and pair.
+  // Support data and contact radii of particles [i0, i1) (PairBody;
+  // symmetry axis e = q (1,0,0)): one rotation per particle instead of one
+  // per particle and pair.
   const auto refresh_bodies = [&](std::int32_t i0, std::int32_t i1) {
     const Vec3* axes = p.semi_axes.data();
     const Quaternion* orient = p.orientation.data();

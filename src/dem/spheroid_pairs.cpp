@@ -131,6 +131,7 @@ struct PairGroup {
   /// unused lanes repeat lane 0) into the warm lanes and the law's radii,
   /// eight lanes at a time (pair_body.h).
   void set_bodies(const PairBody* body) {
+    static_assert(kLawLanes == 8, "body_lanes fills eight lanes");
     for (int k = n; k < kLawLanes; ++k) {
       owner[k] = owner[0];
       partner[k] = partner[0];

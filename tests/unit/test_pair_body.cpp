@@ -35,10 +35,12 @@ double field(const PairBody& b, int f) {
 
 }  // namespace
 
-TEST(PairBody, IsOneAlignedCacheLine) {
-  std::vector<PairBody> bodies(3);
-  EXPECT_EQ(sizeof(PairBody), 64u);
-  for (const PairBody& b : bodies) EXPECT_EQ(reinterpret_cast<std::uintptr_t>(&b) % 64, 0u);
+TEST(PairBody, EveryLineIsAlignedInAVector) {
+  // (its size and field order are static_asserts in pair_body.h)
+  for (std::size_t n : {1u, 3u, 1000u}) {
+    std::vector<PairBody> bodies(n);
+    for (const PairBody& b : bodies) ASSERT_EQ(reinterpret_cast<std::uintptr_t>(&b) % 64, 0u) << n;
+  }
 }
 
 TEST(PairBody, LanesHoldEachParticlesFieldsExactly) {

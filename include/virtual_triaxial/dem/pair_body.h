@@ -37,6 +37,11 @@ struct alignas(64) PairBody {
 static_assert(sizeof(SpheroidSupport) == 6 * sizeof(double), "SpheroidSupport: b2, k, e, bound");
 static_assert(sizeof(ContactRadii) == 2 * sizeof(double), "ContactRadii: hertz, minor");
 static_assert(sizeof(PairBody) == 64, "one cache line");
+static_assert(offsetof(PairBody, support) == 0 && offsetof(SpheroidSupport, b2) == 0 &&
+                  offsetof(SpheroidSupport, k) == 8 && offsetof(SpheroidSupport, e) == 16 &&
+                  offsetof(SpheroidSupport, bound) == 40 && offsetof(PairBody, radii) == 48 &&
+                  offsetof(ContactRadii, hertz) == 0 && offsetof(ContactRadii, minor) == 8,
+              "the fields in body_lanes' order");
 
 /// dst[f][k] = field f (in PairBody's order: b2, k, e.x, e.y, e.z, bound,
 /// hertz, minor) of body[idx[k]], for f and k in 0..7. Each dst[f] points

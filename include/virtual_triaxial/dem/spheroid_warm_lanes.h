@@ -44,7 +44,8 @@ namespace vt::dem {
 /// What the warm lanes found for one pair.
 enum class WarmOutcome : std::int32_t { Apart = 0, Solved = 1, Scalar = 2 };
 
-/// Eight pairs, field by field. Fill lanes with set(); run
+/// Eight pairs, field by field. Fill lanes with set() (or the bodies'
+/// fields directly and set_pair(), as the pair loop does); run
 /// solve_spheroid_warm_lanes(); read the outputs.
 struct SpheroidWarmLanes {
   static constexpr int kLanes = 8;
