@@ -228,11 +228,15 @@ std::vector<ContactHistory> NeighborList::histories(const Particles& p) const {
   return out;
 }
 
-void sort_histories(std::vector<ContactHistory>& h) {
-  std::sort(h.begin(), h.end(), [](const ContactHistory& a, const ContactHistory& b) {
-    return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
-  });
+namespace {
+/// The histories' order: by (id_a, id_b) (for histories and their sort keys).
+template <class T>
+bool ids_before(const T& a, const T& b) {
+  return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
 }
+}  // namespace
+
+void sort_histories(std::vector<ContactHistory>& h) { std::sort(h.begin(), h.end(), ids_before<ContactHistory>); }
 
 void NeighborList::histories_into(const Particles& p, std::vector<ContactHistory>& out, bool sorted) const {
   const auto kept = [this](std::int32_t e) {
@@ -248,10 +252,7 @@ void NeighborList::histories_into(const Particles& p, std::vector<ContactHistory
   for (std::size_t i = 0; i + 1 < offsets_.size(); ++i)
     for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e)
       if (kept(e)) keys.push_back({p.id[i], p.id[pairs_.partner[e]], e});
-  if (sorted)
-    std::sort(keys.begin(), keys.end(), [](const HistoryKey& a, const HistoryKey& b) {
-      return a.id_a != b.id_a ? a.id_a < b.id_a : a.id_b < b.id_b;
-    });
+  if (sorted) std::sort(keys.begin(), keys.end(), ids_before<HistoryKey>);
   out.clear();
   for (const HistoryKey& k : keys) {
     const bool cached = spheroids_ && pairs_.spheroid[k.entry].cache.valid;

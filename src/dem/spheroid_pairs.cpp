@@ -331,7 +331,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
             break;
           case WarmOutcome::Scalar: {
             const std::int32_t c = g.list_index[k];
-            const PairGeometry gm = scalar_geometry(in, in.owner[e], e, c_branch[c], c_dist2[c], stats);
+            const PairGeometry gm = scalar_geometry(in, g.owner[k], e, c_branch[c], c_dist2[c], stats);
             g.contact[k] = gm.delta > 0.0;
             g.gap[k] = gm.gap;
             if (g.contact[k]) g.set_geometry(k, gm);
@@ -344,7 +344,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     spheroid_contact_lanes<Viscous>(g.law, lgrad, law, dt, in.viscous_a);
     const LawLanes& L = g.law;
     for (int k = 0; k < n; ++k) {
-      const std::int32_t e = g.entry[k], i = in.owner[e], j = in.partner[e];
+      const std::int32_t e = g.entry[k], i = g.owner[k], j = g.partner[k];
       if (!g.contact[k]) {
         part(e, i, j, g.gap[k]);
         continue;

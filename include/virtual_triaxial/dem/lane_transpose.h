@@ -7,8 +7,9 @@
 // 8 x 8 transpose (24 shuffles) and one store per field. On the project's
 // AMD EPYC host a block took 4.6 ns against 19 ns by scalars in a
 // micro-benchmark (in the spheroid pair loop the whole change saved 0.9 %
-// on one thread and 2.6 % on two: the stores were not what limited it). tests/unit/test_pair_body.cpp
-// checks the form compiled against the fields copied one by one.
+// on one thread and 2.6 % on two: the stores were not what limited it).
+// tests/unit/test_pair_body.cpp checks the form compiled against the fields
+// copied one by one.
 #pragma once
 
 #include <cstdint>
