@@ -7,6 +7,7 @@
 
 #include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/huge_pages.h"
+#include "virtual_triaxial/dem/lane_transpose.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
 
 namespace vt::dem {
@@ -264,106 +265,141 @@ IntegrationSums LeapfrogIntegrator::advance_sphere_lanes(const StepInputs& in, s
 /// covers (a sphere of a mixed sample, a body with I2 != I3, L = 0, a half
 /// step angle above 1/16 rad) is redone by advance_chunk<true, false> for
 /// its particle; then every lane is stored and its terms summed one
-/// particle at a time in storage order. Which particles take the lanes depends only on their own state,
-/// so results do not depend on the thread count; they agree with
-/// advance_chunk's to round-off.
+/// particle at a time in storage order. Which particles take the lanes
+/// depends only on their own state, so results do not depend on the thread
+/// count; they agree with advance_chunk's to round-off.
+/// A full group is copied into the lanes and back by vector shuffles
+/// (lane_transpose.h: records_to_lanes, lanes_to_records), the tail of a
+/// chunk lane by lane; the lane loop is a function of its own over one
+/// struct: with the shuffles in the same function GCC left it scalar
+/// (session 26, E7), over one struct it knows the fields do not overlap.
 template <bool Measure>
 IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin,
                                                            std::size_t i_end) const {
   const Mat3 hinv = in.hinv;
   const Mat3 h = in.h;
   const double dt = dt_;
-  const double* vel = &in.vel->x;
-  const double* omg = &in.omg->x;
-  const double* frac = &in.frac->x;
-  const double* orient = &in.orient->w;
-  const double* inertia = &in.inertia->x;
-  const double* f_in = &in.f_in->x;
-  const double* t_in = &in.t_in->x;
-  const double* s_build = &in.s_build->x;
   IntegrationSums acc;
-  // per lane: the new state, the terms of the sums and whether the lane holds
-  double nv[3][kLanes], nw[3][kLanes], nq[4][kLanes], ns[3][kLanes];
-  LaneTerms<kLanes> L;
-  double spheroid[kLanes], ok[kLanes];
-  // per lane: the old state, packed field by field (the vectoriser does not
-  // take the strided particle arrays in this loop)
-  double pv[3][kLanes], pw[3][kLanes], pf[3][kLanes], pt[3][kLanes], pq[4][kLanes], ps[3][kLanes], pb[3][kLanes];
-  double pi1[kLanes], pi2[kLanes];
-  const auto pack = [&](std::size_t i0, std::size_t k) {
+  // One group's lanes: the old state (field by field), the new state, the
+  // terms of the sums and whether the lane holds (ok: 1, else 0).
+  struct Group {
+    double v[3][kLanes], w[3][kLanes], f[3][kLanes], t[3][kLanes], q[4][kLanes], s[3][kLanes], s_build[3][kLanes];
+    double inertia[3][kLanes], spheroid[kLanes];
+    double v_new[3][kLanes], w_new[3][kLanes], q_new[4][kLanes], s_new[3][kLanes], ok[kLanes];
+    LaneTerms<kLanes> L;
+  };
+  Group grp;
+  // a symmetric top (I2 = I3; a file may hold any inertia): else the general step
+  const auto set_spheroid = [&](std::size_t i0, std::size_t k) {
+    grp.spheroid[k] = (in.shape[i0 + k] == Shape::Spheroid ? 1.0 : 0.0) *
+                      (grp.inertia[1][k] == grp.inertia[2][k] ? 1.0 : 0.0);
+  };
+  const auto pack_group = [&](std::size_t i0) {
+    lanes::records_to_lanes<3>(&in.vel[i0].x, grp.v);
+    lanes::records_to_lanes<3>(&in.omg[i0].x, grp.w);
+    lanes::records_to_lanes<3>(&in.f_in[i0].x, grp.f);
+    lanes::records_to_lanes<3>(&in.t_in[i0].x, grp.t);
+    lanes::records_to_lanes<4>(&in.orient[i0].w, grp.q);
+    lanes::records_to_lanes<3>(&in.frac[i0].x, grp.s);
+    lanes::records_to_lanes<3>(&in.s_build[i0].x, grp.s_build);
+    lanes::records_to_lanes<3>(&in.inertia[i0].x, grp.inertia);
+    for (std::size_t k = 0; k < kLanes; ++k) set_spheroid(i0, k);
+  };
+  const auto pack_lane = [&](std::size_t i0, std::size_t k) {
     const std::size_t i = i0 + k;
     for (int a = 0; a < 3; ++a) {
-      pv[a][k] = vel[3 * i + a];
-      pw[a][k] = omg[3 * i + a];
-      pf[a][k] = f_in[3 * i + a];
-      pt[a][k] = t_in[3 * i + a];
-      ps[a][k] = frac[3 * i + a];
-      pb[a][k] = s_build[3 * i + a];
+      grp.v[a][k] = in.vel[i][a];
+      grp.w[a][k] = in.omg[i][a];
+      grp.f[a][k] = in.f_in[i][a];
+      grp.t[a][k] = in.t_in[i][a];
+      grp.s[a][k] = in.frac[i][a];
+      grp.s_build[a][k] = in.s_build[i][a];
+      grp.inertia[a][k] = in.inertia[i][a];
     }
-    for (int a = 0; a < 4; ++a) pq[a][k] = orient[4 * i + a];
-    pi1[k] = inertia[3 * i];
-    pi2[k] = inertia[3 * i + 1];
-    // a symmetric top (I2 = I3; a file may hold any inertia): else the general step
-    spheroid[k] = in.shape[i] == Shape::Spheroid && inertia[3 * i + 1] == inertia[3 * i + 2] ? 1.0 : 0.0;
+    const Quaternion& q = in.orient[i];
+    grp.q[0][k] = q.w; grp.q[1][k] = q.x; grp.q[2][k] = q.y; grp.q[3][k] = q.z;
+    set_spheroid(i0, k);
   };
-  const auto update = [&](std::size_t i0, std::size_t k) __attribute__((always_inline)) {
-    const CoefficientLanes& c = coef_[i0 / kLanes];
-    const RotationLanes& rk = rot_coef_[i0 / kLanes];
-    const Vec3 v_old{pv[0][k], pv[1][k], pv[2][k]};
-    const Vec3 w_old{pw[0][k], pw[1][k], pw[2][k]};
-    const Vec3 f{pf[0][k], pf[1][k], pf[2][k]}, t{pt[0][k], pt[1][k], pt[2][k]};
-    const Vec3 v_new = c.decay[k] * v_old + c.kick[k] * f;
-    // advance_symmetric_rotation's parts, L = 0 and large angles left to the scalar step
-    const Quaternion q{pq[0][k], pq[1][k], pq[2][k], pq[3][k]};
-    const SymmetricStepConstants sk{c.decay[k], rk.kick[k], rk.inv_i1[k], rk.inv_i2[k], rk.dt_inv_i2[k], dt};
-    const SymmetricKick kk = symmetric_kick(q, w_old, t, pi1[k], pi2[k], sk);
-    double cp, sinc, cs, ss;
-    cos_sinc_of_square_small(kk.precession2, cp, sinc);
-    cos_sin_small(kk.spin, cs, ss);
-    const Quaternion q_new = symmetric_drift(q, kk, cp, sinc, cs, ss);
-    Vec3 w_new;
-    double two_e_rot;
-    symmetric_finish(q_new, kk, sk, w_new, two_e_rot);
-    ok[k] = spheroid[k] * (kk.l2 > 0.0 ? 1.0 : 0.0) * (kk.precession2 <= kSmallAngle2 ? 1.0 : 0.0) *
-            (kk.spin * kk.spin <= kSmallAngle2 ? 1.0 : 0.0);
-    nv[0][k] = v_new.x; nv[1][k] = v_new.y; nv[2][k] = v_new.z;
-    nw[0][k] = w_new.x; nw[1][k] = w_new.y; nw[2][k] = w_new.z;
-    nq[0][k] = q_new.w; nq[1][k] = q_new.x; nq[2][k] = q_new.y; nq[3][k] = q_new.z;
-    const Vec3 v_mid = 0.5 * (v_old + v_new);
-    const double m = c.mass[k];
-    L.diss[k] = c.alpha_dt[k] * (m * norm2(v_mid) + two_e_rot);
-    if constexpr (Measure) {
-      L.ekt[k] = 0.5 * m * norm2(v_mid);
-      L.ekr[k] = 0.5 * two_e_rot;
-      L.mom[k] = norm2(kk.l_new - kk.l_old);  // its root in finish()
+  // Lanes [0, n) of g with the constants c, rk of its particles.
+  const auto update = [hinv, h, dt](Group* __restrict g, const CoefficientLanes* __restrict c,
+                                    const RotationLanes* __restrict rk, std::size_t n) __attribute__((noinline)) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 v_old{g->v[0][k], g->v[1][k], g->v[2][k]};
+      const Vec3 w_old{g->w[0][k], g->w[1][k], g->w[2][k]};
+      const Vec3 f{g->f[0][k], g->f[1][k], g->f[2][k]}, t{g->t[0][k], g->t[1][k], g->t[2][k]};
+      const Vec3 v_new = c->decay[k] * v_old + c->kick[k] * f;
+      // advance_symmetric_rotation's parts, L = 0 and large angles left to the scalar step
+      const Quaternion q{g->q[0][k], g->q[1][k], g->q[2][k], g->q[3][k]};
+      const SymmetricStepConstants sk{c->decay[k], rk->kick[k], rk->inv_i1[k], rk->inv_i2[k], rk->dt_inv_i2[k], dt};
+      const SymmetricKick kk = symmetric_kick(q, w_old, t, g->inertia[0][k], g->inertia[1][k], sk);
+      double cp, sinc, cs, ss;
+      cos_sinc_of_square_small(kk.precession2, cp, sinc);
+      cos_sin_small(kk.spin, cs, ss);
+      const Quaternion q_new = symmetric_drift(q, kk, cp, sinc, cs, ss);
+      Vec3 w_new;
+      double two_e_rot;
+      symmetric_finish(q_new, kk, sk, w_new, two_e_rot);
+      g->ok[k] = g->spheroid[k] * (kk.l2 > 0.0 ? 1.0 : 0.0) * (kk.precession2 <= kSmallAngle2 ? 1.0 : 0.0) *
+                 (kk.spin * kk.spin <= kSmallAngle2 ? 1.0 : 0.0);
+      g->v_new[0][k] = v_new.x; g->v_new[1][k] = v_new.y; g->v_new[2][k] = v_new.z;
+      g->w_new[0][k] = w_new.x; g->w_new[1][k] = w_new.y; g->w_new[2][k] = w_new.z;
+      g->q_new[0][k] = q_new.w; g->q_new[1][k] = q_new.x; g->q_new[2][k] = q_new.y; g->q_new[3][k] = q_new.z;
+      const Vec3 v_mid = 0.5 * (v_old + v_new);
+      const double m = c->mass[k];
+      g->L.diss[k] = c->alpha_dt[k] * (m * norm2(v_mid) + two_e_rot);
+      if constexpr (Measure) {
+        g->L.ekt[k] = 0.5 * m * norm2(v_mid);
+        g->L.ekr[k] = 0.5 * two_e_rot;
+        g->L.mom[k] = norm2(kk.l_new - kk.l_old);  // its root in add()
+      }
+      const Vec3 s = g->L.drift(k, Vec3{g->s[0][k], g->s[1][k], g->s[2][k]},
+                                Vec3{g->s_build[0][k], g->s_build[1][k], g->s_build[2][k]}, v_new, w_new, hinv, h, dt);
+      g->s_new[0][k] = s.x; g->s_new[1][k] = s.y; g->s_new[2][k] = s.z;
     }
-    const Vec3 s = L.drift(k, Vec3{ps[0][k], ps[1][k], ps[2][k]}, Vec3{pb[0][k], pb[1][k], pb[2][k]}, v_new, w_new,
-                           hinv, h, dt);
-    ns[0][k] = s.x; ns[1][k] = s.y; ns[2][k] = s.z;
+  };
+  // Lane k's terms into the sums.
+  const auto add = [&](std::size_t k) {
+    grp.L.template add_to<Measure>(acc, k, [&](std::size_t j) { return std::sqrt(grp.L.mom[j]) / dt; });
   };
   // Lane k stored and summed (or its particle stepped by advance_chunk).
-  const auto finish = [&](std::size_t i0, std::size_t k) {
+  const auto finish_lane = [&](std::size_t i0, std::size_t k) {
     const std::size_t i = i0 + k;
-    if (ok[k] == 0.0) {  // one particle's sums: added exactly as its terms
+    if (grp.ok[k] == 0.0) {  // one particle's sums: added exactly as its terms
       acc.add(advance_chunk<true, false>(in, i, i + 1, Measure));
       return;
     }
-    in.vel[i] = {nv[0][k], nv[1][k], nv[2][k]};
-    in.omg[i] = {nw[0][k], nw[1][k], nw[2][k]};
-    in.orient[i] = {nq[0][k], nq[1][k], nq[2][k], nq[3][k]};
-    in.frac[i] = {ns[0][k], ns[1][k], ns[2][k]};
-    L.template add_to<Measure>(acc, k, [&](std::size_t j) { return std::sqrt(L.mom[j]) / dt; });
+    in.vel[i] = {grp.v_new[0][k], grp.v_new[1][k], grp.v_new[2][k]};
+    in.omg[i] = {grp.w_new[0][k], grp.w_new[1][k], grp.w_new[2][k]};
+    in.orient[i] = {grp.q_new[0][k], grp.q_new[1][k], grp.q_new[2][k], grp.q_new[3][k]};
+    in.frac[i] = {grp.s_new[0][k], grp.s_new[1][k], grp.s_new[2][k]};
+    add(k);
+  };
+  // A full group: stored by shuffles when every lane holds (the common
+  // case), else lane by lane (a lane's scalar step reads its old state).
+  const auto finish_group = [&](std::size_t i0) {
+    bool all = true;
+    for (std::size_t k = 0; k < kLanes; ++k) all = all && grp.ok[k] != 0.0;
+    if (!all) {
+      for (std::size_t k = 0; k < kLanes; ++k) finish_lane(i0, k);
+      return;
+    }
+    lanes::lanes_to_records<3>(grp.v_new, &in.vel[i0].x);
+    lanes::lanes_to_records<3>(grp.w_new, &in.omg[i0].x);
+    lanes::lanes_to_records<4>(grp.q_new, &in.orient[i0].w);
+    lanes::lanes_to_records<3>(grp.s_new, &in.frac[i0].x);
+    for (std::size_t k = 0; k < kLanes; ++k) add(k);
   };
   std::size_t i0 = i_begin;  // a chunk's start: a multiple of kLanes
   for (; i0 + kLanes <= i_end; i0 += kLanes) {
-    for (std::size_t k = 0; k < kLanes; ++k) pack(i0, k);
-    for (std::size_t k = 0; k < kLanes; ++k) update(i0, k);
-    for (std::size_t k = 0; k < kLanes; ++k) finish(i0, k);
+    pack_group(i0);
+    update(&grp, &coef_[i0 / kLanes], &rot_coef_[i0 / kLanes], kLanes);
+    finish_group(i0);
   }
   const std::size_t tail = i_end - i0;
-  for (std::size_t k = 0; k < tail; ++k) pack(i0, k);
-  for (std::size_t k = 0; k < tail; ++k) update(i0, k);
-  for (std::size_t k = 0; k < tail; ++k) finish(i0, k);
+  if (tail == 0) return acc;
+  for (std::size_t k = 0; k < tail; ++k) pack_lane(i0, k);
+  update(&grp, &coef_[i0 / kLanes], &rot_coef_[i0 / kLanes], tail);
+  for (std::size_t k = 0; k < tail; ++k) finish_lane(i0, k);
   return acc;
 }
 

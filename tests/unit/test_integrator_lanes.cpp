@@ -29,8 +29,9 @@ Quaternion minus(const Quaternion& a, const Quaternion& b) { return {a.w - b.w, 
 }  // namespace
 
 TEST(IntegratorLanes, SpheroidLanesTakeTheRigidBodyStepOfEveryParticle) {
-  // 37 particles (four full groups of 8 and a tail of 5): spheroids of aspect
-  // 1 to 2 with random orientations, spins and torques; spheres at 3, 12 and
+  // 45 particles (five full groups of 8 and a tail of 5): spheroids of aspect
+  // 1 to 2 with random orientations, spins and torques (the group 32-39 holds
+  // only those, so it is stored by shuffles, the others lane by lane); spheres at 3, 12 and
   // 30 (their lanes take the scalar step; a sphere's orientation is not
   // integrated); a spheroid at rest without torque at 17 (L = 0: the
   // orientation must stay exactly as it is); one at 21 spinning so fast that
@@ -45,7 +46,7 @@ TEST(IntegratorLanes, SpheroidLanesTakeTheRigidBodyStepOfEveryParticle) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto vec = [&](double s) { return Vec3{s * u(g), s * u(g), s * u(g)}; };
   Particles p;
-  const int n = 37;
+  const int n = 45;
   for (int i = 0; i < n; ++i) {
     const Vec3 s{0.5 + 0.4 * u(g), 0.5 + 0.4 * u(g), 0.5 + 0.4 * u(g)};
     if (i == 3 || i == 12 || i == 30) {

@@ -10,6 +10,14 @@
 // on one thread and 2.6 % on two: the stores were not what limited it).
 // tests/unit/test_pair_body.cpp checks the form compiled against the fields
 // copied one by one.
+//
+// records_to_lanes<N> / lanes_to_records<N> do the same for eight
+// consecutive records of N = 3 or 4 doubles (a Vec3 array as x, y, z, ...;
+// a Quaternion array as w, x, y, z, ...) and back: N vector loads, two
+// shuffles per field (three per field for N = 4), N vector stores, written
+// with GCC's vector extensions, which every target compiles (AVX-512: one
+// register per vector; others split it). Plain copies: the same bits as
+// scalar copies (tests/unit/test_record_lanes.cpp).
 #pragma once
 
 #include <cstdint>
@@ -77,5 +85,76 @@ __attribute__((always_inline)) inline void rows_to_lanes(const double* const* ro
 #if defined(__AVX512F__)
 #pragma GCC diagnostic pop
 #endif
+
+// Without AVX-512 GCC notes that a 64-byte vector argument or result changes
+// the ABI; these helpers are always inlined, so no call passes one.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+/// Eight doubles, and eight indices for __builtin_shuffle (0-7: the first
+/// source, 8-15: the second).
+typedef double Doubles8 __attribute__((vector_size(64)));
+typedef long long Picks8 __attribute__((vector_size(64)));
+
+__attribute__((always_inline)) inline Doubles8 load8(const double* a) {
+  Doubles8 v;
+  __builtin_memcpy(&v, a, sizeof v);
+  return v;
+}
+__attribute__((always_inline)) inline void store8(double* a, const Doubles8& v) { __builtin_memcpy(a, &v, sizeof v); }
+
+/// dst[f][k] = src[N k + f] for f < N, k < 8 (N = 3: Vec3 records, N = 4:
+/// Quaternion records; 8 N doubles from src).
+template <int N>
+__attribute__((always_inline)) inline void records_to_lanes(const double* src, double (*dst)[8]) {
+  static_assert(N == 3 || N == 4, "records of three or four doubles");
+  if constexpr (N == 3) {
+    // field f of record k is element 3k + f of a|b|c (24 doubles)
+    const Doubles8 a = load8(src), b = load8(src + 8), c = load8(src + 16);
+    store8(dst[0], __builtin_shuffle(__builtin_shuffle(a, b, Picks8{0, 3, 6, 9, 12, 15, 0, 0}), c,
+                                     Picks8{0, 1, 2, 3, 4, 5, 10, 13}));
+    store8(dst[1], __builtin_shuffle(__builtin_shuffle(a, b, Picks8{1, 4, 7, 10, 13, 0, 0, 0}), c,
+                                     Picks8{0, 1, 2, 3, 4, 8, 11, 14}));
+    store8(dst[2], __builtin_shuffle(__builtin_shuffle(a, b, Picks8{2, 5, 8, 11, 14, 0, 0, 0}), c,
+                                     Picks8{0, 1, 2, 3, 4, 9, 12, 15}));
+  } else {
+    // field f of records 0-3 from a|b, of records 4-7 from c|d
+    const Doubles8 a = load8(src), b = load8(src + 8), c = load8(src + 16), d = load8(src + 24);
+    for (long long f = 0; f < 4; ++f) {
+      const Picks8 pick{f, f + 4, f + 8, f + 12, 0, 0, 0, 0};
+      store8(dst[f], __builtin_shuffle(__builtin_shuffle(a, b, pick), __builtin_shuffle(c, d, pick),
+                                       Picks8{0, 1, 2, 3, 8, 9, 10, 11}));
+    }
+  }
+}
+
+/// The inverse: dst[N k + f] = src[f][k] for f < N, k < 8.
+template <int N>
+__attribute__((always_inline)) inline void lanes_to_records(const double (*src)[8], double* dst) {
+  static_assert(N == 3 || N == 4, "records of three or four doubles");
+  if constexpr (N == 3) {
+    const Doubles8 x = load8(src[0]), y = load8(src[1]), z = load8(src[2]);
+    // x0 y0 z0 x1 y1 z1 x2 y2 | z2 x3 y3 z3 x4 y4 z4 x5 | y5 z5 x6 y6 z6 x7 y7 z7
+    store8(dst, __builtin_shuffle(__builtin_shuffle(x, y, Picks8{0, 8, 0, 1, 9, 0, 2, 10}), z,
+                                  Picks8{0, 1, 8, 3, 4, 9, 6, 7}));
+    store8(dst + 8, __builtin_shuffle(__builtin_shuffle(x, y, Picks8{0, 3, 11, 0, 4, 12, 0, 5}), z,
+                                      Picks8{10, 1, 2, 11, 4, 5, 12, 7}));
+    store8(dst + 16, __builtin_shuffle(__builtin_shuffle(x, y, Picks8{13, 0, 6, 14, 0, 7, 15, 0}), z,
+                                       Picks8{0, 13, 2, 3, 14, 5, 6, 15}));
+  } else {
+    const Doubles8 w = load8(src[0]), x = load8(src[1]), y = load8(src[2]), z = load8(src[3]);
+    // (w, x) and (y, z) interleaved for records 0-3 and 4-7, then two records per store
+    const Picks8 lo{0, 8, 1, 9, 2, 10, 3, 11}, hi{4, 12, 5, 13, 6, 14, 7, 15};
+    const Doubles8 wx0 = __builtin_shuffle(w, x, lo), yz0 = __builtin_shuffle(y, z, lo);
+    const Doubles8 wx1 = __builtin_shuffle(w, x, hi), yz1 = __builtin_shuffle(y, z, hi);
+    const Picks8 first{0, 1, 8, 9, 2, 3, 10, 11}, second{4, 5, 12, 13, 6, 7, 14, 15};
+    store8(dst, __builtin_shuffle(wx0, yz0, first));
+    store8(dst + 8, __builtin_shuffle(wx0, yz0, second));
+    store8(dst + 16, __builtin_shuffle(wx1, yz1, first));
+    store8(dst + 24, __builtin_shuffle(wx1, yz1, second));
+  }
+}
+
+#pragma GCC diagnostic pop
 
 }  // namespace vt::dem::lanes
