@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/huge_pages.h"
@@ -294,6 +295,10 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
     grp.spheroid[k] = (in.shape[i0 + k] == Shape::Spheroid ? 1.0 : 0.0) *
                       (grp.inertia[1][k] == grp.inertia[2][k] ? 1.0 : 0.0);
   };
+  // The records as 3 and 4 doubles (records_to_lanes reads 8 of them as 24 / 32 doubles).
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_trivially_copyable_v<Vec3>, "Vec3: x, y, z");
+  static_assert(sizeof(Quaternion) == 4 * sizeof(double) && std::is_trivially_copyable_v<Quaternion>,
+                "Quaternion: w, x, y, z");
   const auto pack_group = [&](std::size_t i0) {
     lanes::records_to_lanes<3>(&in.vel[i0].x, grp.v);
     lanes::records_to_lanes<3>(&in.omg[i0].x, grp.w);

@@ -69,6 +69,14 @@ TEST(IntegratorLanes, SpheroidLanesTakeTheRigidBodyStepOfEveryParticle) {
     force[i] = vec(1e-3);
     torque[i] = i == 17 ? Vec3{} : vec(1e-7);
   }
+  // the group 32-39 takes the shuffled stores only while every lane holds:
+  // symmetric spheroids, L != 0, half step angles below 1/16 rad
+  for (int i = 32; i < 40; ++i) {
+    ASSERT_EQ(p.shape[i], Shape::Spheroid) << i;
+    ASSERT_EQ(p.inertia[i].y, p.inertia[i].z) << i;
+    ASSERT_GT(norm(p.omega[i]), 0.0) << i;
+    ASSERT_LT(norm(p.omega[i]) * dt / 2, 1.0 / 16) << i;
+  }
   const Particles before = p;
   LeapfrogIntegrator integ;
   integ.set_coefficients(p, alpha, dt);

@@ -13,11 +13,11 @@
 //
 // records_to_lanes<N> / lanes_to_records<N> do the same for eight
 // consecutive records of N = 3 or 4 doubles (a Vec3 array as x, y, z, ...;
-// a Quaternion array as w, x, y, z, ...) and back: N vector loads, two
-// shuffles per field (three per field for N = 4), N vector stores, written
-// with GCC's vector extensions, which every target compiles (AVX-512: one
-// register per vector; others split it). Plain copies: the same bits as
-// scalar copies (tests/unit/test_record_lanes.cpp).
+// a Quaternion array as w, x, y, z, ...) and back. With AVX-512: N vector
+// loads, shuffles (records_to_lanes two per field for N = 3, three for
+// N = 4; lanes_to_records two per field), N vector stores, written with
+// GCC's vector extensions; without AVX-512, scalar copies. Plain copies:
+// both forms give the same bits (tests/unit/test_record_lanes.cpp).
 #pragma once
 
 #include <cstdint>
@@ -86,28 +86,32 @@ __attribute__((always_inline)) inline void rows_to_lanes(const double* const* ro
 #pragma GCC diagnostic pop
 #endif
 
-// Without AVX-512 GCC notes that a 64-byte vector argument or result changes
-// the ABI; these helpers are always inlined, so no call passes one.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
+/// dst[f][k] = src[N k + f] for f < N, k < 8 (N = 3: Vec3 records, N = 4:
+/// Quaternion records; 8 N doubles from src).
+template <int N>
+__attribute__((always_inline)) inline void records_to_lanes(const double* src, double (*dst)[8]);
+/// The inverse: dst[N k + f] = src[f][k] for f < N, k < 8.
+template <int N>
+__attribute__((always_inline)) inline void lanes_to_records(const double (*src)[8], double* dst);
 
+#if defined(__AVX512F__)
+namespace detail {
 /// Eight doubles, and eight indices for __builtin_shuffle (0-7: the first
 /// source, 8-15: the second).
 typedef double Doubles8 __attribute__((vector_size(64)));
 typedef long long Picks8 __attribute__((vector_size(64)));
-
 __attribute__((always_inline)) inline Doubles8 load8(const double* a) {
   Doubles8 v;
   __builtin_memcpy(&v, a, sizeof v);
   return v;
 }
 __attribute__((always_inline)) inline void store8(double* a, const Doubles8& v) { __builtin_memcpy(a, &v, sizeof v); }
+}  // namespace detail
 
-/// dst[f][k] = src[N k + f] for f < N, k < 8 (N = 3: Vec3 records, N = 4:
-/// Quaternion records; 8 N doubles from src).
 template <int N>
-__attribute__((always_inline)) inline void records_to_lanes(const double* src, double (*dst)[8]) {
+inline void records_to_lanes(const double* src, double (*dst)[8]) {
   static_assert(N == 3 || N == 4, "records of three or four doubles");
+  using namespace detail;
   if constexpr (N == 3) {
     // field f of record k is element 3k + f of a|b|c (24 doubles)
     const Doubles8 a = load8(src), b = load8(src + 8), c = load8(src + 16);
@@ -128,10 +132,10 @@ __attribute__((always_inline)) inline void records_to_lanes(const double* src, d
   }
 }
 
-/// The inverse: dst[N k + f] = src[f][k] for f < N, k < 8.
 template <int N>
-__attribute__((always_inline)) inline void lanes_to_records(const double (*src)[8], double* dst) {
+inline void lanes_to_records(const double (*src)[8], double* dst) {
   static_assert(N == 3 || N == 4, "records of three or four doubles");
+  using namespace detail;
   if constexpr (N == 3) {
     const Doubles8 x = load8(src[0]), y = load8(src[1]), z = load8(src[2]);
     // x0 y0 z0 x1 y1 z1 x2 y2 | z2 x3 y3 z3 x4 y4 z4 x5 | y5 z5 x6 y6 z6 x7 y7 z7
@@ -154,7 +158,20 @@ __attribute__((always_inline)) inline void lanes_to_records(const double (*src)[
     store8(dst + 24, __builtin_shuffle(wx1, yz1, second));
   }
 }
+#else
+template <int N>
+inline void records_to_lanes(const double* src, double (*dst)[8]) {
+  static_assert(N == 3 || N == 4, "records of three or four doubles");
+  for (int k = 0; k < 8; ++k)
+    for (int f = 0; f < N; ++f) dst[f][k] = src[N * k + f];
+}
 
-#pragma GCC diagnostic pop
+template <int N>
+inline void lanes_to_records(const double (*src)[8], double* dst) {
+  static_assert(N == 3 || N == 4, "records of three or four doubles");
+  for (int k = 0; k < 8; ++k)
+    for (int f = 0; f < N; ++f) dst[N * k + f] = src[f][k];
+}
+#endif
 
 }  // namespace vt::dem::lanes
