@@ -280,7 +280,11 @@ rc=0
 client_out="${ROS_HOME}/client.out"
 client_args=("${protocol}")
 [[ -n "${checkpoint}" ]] && client_args=(--resume "${checkpoint}")
-setsid scripts/run_test_client.py "${client_args[@]}" --out "${out}" >"${client_out}" 2>&1 </dev/null &
+# The file exists before tail opens it: the background job's own
+# redirection may run after tail starts, and tail then gives up on a missing
+# file and the client's progress never reaches the console.
+: >"${client_out}"
+setsid scripts/run_test_client.py "${client_args[@]}" --out "${out}" >>"${client_out}" 2>&1 </dev/null &
 client_pid=$!
 pids+=("${client_pid}")
 tail -n +1 -f --pid="${client_pid}" "${client_out}" &
