@@ -21,6 +21,13 @@ constexpr std::int32_t kPrefetchEntries = 24;   // pass 1: partner data, entries
 constexpr std::int32_t kPrefetchContacts = 6;   // pass 2: pair state and spring, contacts ahead
 constexpr std::int32_t kPrefetchParticles = 6;  // gather: pair states, particles ahead
 
+/// A per-lane flag of the SIMD lane structs (a contact's sliding state): 8
+/// bytes, as wide as their doubles. With a 4-byte field GCC took an 8-lane
+/// loop as 16 lanes at 64-byte vectors, more than its 8 iterations, and fell
+/// back to 32-byte vectors, two per field (session 28, experiments.txt E13).
+using LaneFlag = std::int64_t;
+static_assert(sizeof(LaneFlag) == sizeof(double), "a lane flag is as wide as a lane's double");
+
 /// Stores v at *dst one component at a time. A whole-Vec3 assignment in the
 /// pair loops was compiled as two 8-byte stores to a stack slot and a 16-byte
 /// reload (a store-forwarding stall of about 15 cycles; perf showed 12-15 %

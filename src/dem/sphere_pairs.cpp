@@ -27,9 +27,7 @@ struct SphereLanes {
   double fx[kLanes], fy[kLanes], fz[kLanes], mx[kLanes], my[kLanes], mz[kLanes];
   double hov[kLanes], li[kLanes], lj[kLanes], ratio[kLanes];
   double energy[kLanes], friction[kLanes], power[kLanes], f2[kLanes];
-  // 8 bytes, as wide as the doubles, so the law's loop runs on 64-byte
-  // vectors (as LawLanes::sliding, spheroid_pairs.cpp)
-  std::int64_t sliding[kLanes];
+  LaneFlag sliding[kLanes];
 };
 
 /// The contact of every lane (formulas in contact_forces.h). Not inlined,

@@ -63,10 +63,7 @@ struct LawLanes {
   double mix[kLawLanes], miy[kLawLanes], miz[kLawLanes];  // moment on i, F x c [N m]
   double energy[kLawLanes], friction[kLawLanes], power[kLawLanes], f2[kLawLanes];
   double ratio[kLawLanes];  // delta / min(b_i, b_j)
-  // 8 bytes, as wide as the doubles: an int32 field made GCC take the
-  // loop as 16 lanes at 64-byte vectors, more than its 8, so it ran it on
-  // 32-byte vectors, two per field (session 28, experiments.txt E13)
-  std::int64_t sliding[kLawLanes];
+  LaneFlag sliding[kLawLanes];
   /// Copies the inputs of lane `from` into lane `to`.
   void repeat(int from, int to) {
     double* const fields[] = {dx, dy, dz, delta, nx, ny, nz, cx, cy, cz, ri, rj, rvx, rvy, rvz,
