@@ -3,9 +3,16 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "virtual_triaxial/dem/axis_stiffness_term.h"
+
 namespace vt::dem {
 
 Vec3 axis_stiffness(const Simulation& sim) {
+  if (const ContactSums* cs = sim.last_evaluation_sums()) return (1.0 / sim.last_measured_volume()) * cs->axis_stiffness_sum;
+  return axis_stiffness_of_list(sim);
+}
+
+Vec3 axis_stiffness_of_list(const Simulation& sim) {
   const Particles& p = sim.particles();
   const NeighborList& list = sim.neighbor_list();
   const PairData& pd = list.pairs();
@@ -49,22 +56,18 @@ Vec3 axis_stiffness(const Simulation& sim) {
       hov[k] = pd.half_overlap[e];
     }
     for (std::int32_t k = 0; k < nc; ++k) {
-      const Vec3 d{dx[k], dy[k], dz[k]};
-      const double dist = norm(d);
-      const Vec3 n = (1.0 / dist) * d;
-      const double kn = 1.5 * dot(Vec3{fx[k], fy[k], fz[k]}, n) / (2.0 * hov[k]);
-      const double kt = kt_ratio * kn;
       // per axis a (written out: Vec3::operator[] would put a jump in the loop)
-      sq[0][k] = d.x * d.x;
-      sq[1][k] = d.y * d.y;
-      sq[2][k] = d.z * d.z;
-      stiff[0][k] = kn * n.x * n.x + kt * (1.0 - n.x * n.x);
-      stiff[1][k] = kn * n.y * n.y + kt * (1.0 - n.y * n.y);
-      stiff[2][k] = kn * n.z * n.z + kt * (1.0 - n.z * n.z);
+      const AxisStiffnessTerm t = axis_stiffness_term({dx[k], dy[k], dz[k]}, {fx[k], fy[k], fz[k]}, hov[k], kt_ratio);
+      sq[0][k] = t.d2.x;
+      sq[1][k] = t.d2.y;
+      sq[2][k] = t.d2.z;
+      stiff[0][k] = t.stiffness.x;
+      stiff[1][k] = t.stiffness.y;
+      stiff[2][k] = t.stiffness.z;
       // no term: not in contact after all (a restored history flags its
       // entry active with half_overlap -1 until the next evaluation), or
       // coincident centres (no direction)
-      skip[k] = !((hov[k] > 0.0) & (dist > 0.0));
+      skip[k] = t.none;
     }
     for (std::int32_t k = 0; k < nc; ++k) {
       if (skip[k]) continue;

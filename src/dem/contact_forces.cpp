@@ -23,6 +23,7 @@ void ContactSums::add(const ContactSums& o) {
   sliding += o.sliding;
   sum_force += o.sum_force;
   sum_force2 += o.sum_force2;
+  axis_stiffness_sum += o.axis_stiffness_sum;
   spheroid.add(o.spheroid);
 }
 

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "virtual_triaxial/dem/axis_stiffness_term.h"
 #include "virtual_triaxial/dem/contact_forces.h"
 
 namespace vt::dem::pairs {
@@ -118,6 +119,25 @@ inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t e, st
   }
 }
 
+/// The axis stiffness terms (axis_stiffness_term.h) of a kernel's group of
+/// kLanes contacts, computed by one loop without jumps (SIMD) on measured
+/// steps: branch d, force on j and half overlap of each lane.
+template <int N>
+struct StiffnessLanes {
+  double d2x[N], d2y[N], d2z[N], kx[N], ky[N], kz[N];
+  LaneFlag none[N];
+  void compute(const double* dx, const double* dy, const double* dz, const double* fx, const double* fy,
+               const double* fz, const double* half_overlap, double kt_ratio) {
+    for (int k = 0; k < N; ++k) {
+      const AxisStiffnessTerm t =
+          axis_stiffness_term({dx[k], dy[k], dz[k]}, {fx[k], fy[k], fz[k]}, half_overlap[k], kt_ratio);
+      d2x[k] = t.d2.x; d2y[k] = t.d2.y; d2z[k] = t.d2.z;
+      kx[k] = t.stiffness.x; ky[k] = t.stiffness.y; kz[k] = t.stiffness.z;
+      none[k] = t.none ? 1 : 0;
+    }
+  }
+};
+
 /// A chunk's sums over its contacts, added one contact at a time in list
 /// order by both kernels. The virial sum d (x) F is kept as nine plain
 /// numbers (registers) until finish().
@@ -125,9 +145,10 @@ struct ChunkSums {
   ContactSums acc;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
   /// Lane k of a kernel's lanes (fields dx, dy, dz, energy, friction, power,
-  /// ratio, sliding, f2), whose force on j is f.
-  template <bool Measure, bool Viscous, class Lanes>
-  void add(const Lanes& L, int k, const Vec3& f, double dt) {
+  /// ratio, sliding, f2), whose force on j is f; S: the group's axis
+  /// stiffness terms (computed when Measure).
+  template <bool Measure, bool Viscous, class Lanes, int N>
+  void add(const Lanes& L, int k, const Vec3& f, const StiffnessLanes<N>& S, double dt) {
     // Fused multiply-adds written out: whether the compiler fuses each of
     // them otherwise depends on the code around (it once fused eight of the
     // nine), and the stress feeds the servo, so a run would follow it.
@@ -143,6 +164,14 @@ struct ChunkSums {
     if (Measure) {
       acc.sum_force2 += L.f2[k];
       acc.sum_force += std::sqrt(L.f2[k]);
+      // the servo's axis stiffness, from the same contacts: no pass over
+      // the list of its own (axis_stiffness.h)
+      if (S.none[k] == 0) {
+        Vec3& m = acc.axis_stiffness_sum;
+        m.x = std::fma(S.d2x[k], S.kx[k], m.x);
+        m.y = std::fma(S.d2y[k], S.ky[k], m.y);
+        m.z = std::fma(S.d2z[k], S.kz[k], m.z);
+      }
     }
   }
   /// The sums with `contacts` contacts.

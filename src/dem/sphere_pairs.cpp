@@ -142,6 +142,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   // Pass 2: the contacts, kLanes at a time (SphereLanes), stored and summed
   // in list order.
   ChunkSums sums;
+  StiffnessLanes<kLanes> stiffness;
   Vec3 sink_f, sink_t;  // the sums of partners that are not home
   SphereLanes L;
   std::int32_t lane_e[kLanes], lane_i[kLanes], lane_j[kLanes];
@@ -166,6 +167,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
+    if constexpr (Measure) stiffness.compute(L.dx, L.dy, L.dz, L.fx, L.fy, L.fz, L.hov, law.tangential_ratio());
     for (int k = 0; k < lanes; ++k) {
       const std::int32_t e = lane_e[k], i = lane_i[k], j = lane_j[k];
       const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
@@ -188,7 +190,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         tj = fused_multiply_add(L.lj[k], m, tj);
       }
       in.active[e] = hov != 0.0 ? 1 : 0;
-      sums.add<Measure, Viscous>(L, k, f, dt);
+      sums.add<Measure, Viscous>(L, k, f, stiffness, dt);
     }
   }
   return sums.finish(nc);

@@ -291,6 +291,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // Pass 2: the pairs in reach and awake, in list order, kLawLanes at a time
   // (PairGroup): geometry, then the contact law, then stores and sums.
   ChunkSums sums;
+  StiffnessLanes<kLawLanes> stiffness;
   SpheroidContactStats& stats = sums.acc.spheroid;
   stats.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
@@ -343,6 +344,11 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     for (int k = n; k < kLawLanes; ++k) g.law.repeat(0, k);
     spheroid_contact_lanes<Viscous>(g.law, lgrad, law, dt, in.viscous_a);
     const LawLanes& L = g.law;
+    if constexpr (Measure) {
+      double half_overlap[kLawLanes];  // as stored in the pair states below
+      for (int k = 0; k < kLawLanes; ++k) half_overlap[k] = 0.5 * L.delta[k];
+      stiffness.compute(L.dx, L.dy, L.dz, L.fx, L.fy, L.fz, half_overlap, law.tangential_ratio());
+    }
     for (int k = 0; k < n; ++k) {
       const std::int32_t e = g.entry[k], i = g.owner[k], j = g.partner[k];
       if (!g.contact[k]) {
@@ -370,7 +376,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         fj += f;
         tj += mj;
       }
-      sums.add<Measure, Viscous>(L, k, f, dt);
+      sums.add<Measure, Viscous>(L, k, f, stiffness, dt);
       ++contacts;
     }
     g.n = 0;

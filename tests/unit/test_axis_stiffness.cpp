@@ -6,12 +6,18 @@
 // the block-wise sum (contacts listed first, then summed) equals the plain
 // loop over the list entries bit for bit; a run restored from a state has
 // none until its first step, then the uninterrupted run's, bit for bit.
+// After a measured step M comes from the contact sums of that evaluation:
+// the same on one thread and on two, bit for bit, and the plain loop's value
+// over that evaluation's contacts to 1e-12 (spheres and spheroids).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 
 #include "support/scenes.h"
 #include "virtual_triaxial/dem/axis_stiffness.h"
+#include "virtual_triaxial/dem/axis_stiffness_term.h"
+#include "virtual_triaxial/dem/hertz_mindlin.h"
 #include "virtual_triaxial/dem/simulation.h"
 
 using namespace vt::dem;
@@ -98,7 +104,7 @@ TEST(AxisStiffness, BlockwiseSumEqualsThePlainLoopBitForBit) {
   for (std::int32_t e = 0; e < off.back(); ++e) contacts += pd.half_overlap[e] > 0.0 ? 1 : 0;
   ASSERT_GT(contacts, 500);
   plain = (1.0 / sim.cell().volume()) * plain;
-  const Vec3 m = axis_stiffness(sim);
+  const Vec3 m = axis_stiffness_of_list(sim);
   EXPECT_EQ(m.x, plain.x);
   EXPECT_EQ(m.y, plain.y);
   EXPECT_EQ(m.z, plain.z);
@@ -123,4 +129,77 @@ TEST(AxisStiffness, ARestoredRunHasNoneUntilItsFirstStepThenTheSame) {
   EXPECT_EQ(a.x, b.x);
   EXPECT_EQ(a.y, b.y);
   EXPECT_EQ(a.z, b.z);
+}
+
+namespace {
+
+/// Restores the caller's OpenMP thread count, also when an assertion ends a test early.
+struct RestoreThreads {
+  int count = omp_get_max_threads();
+  ~RestoreThreads() { omp_set_num_threads(count); }
+};
+
+/// M after one measured step from `start` on `threads` threads: from the
+/// contact sums (axis_stiffness) and by a plain loop over the list entries
+/// with the branches at the positions of the evaluation (the step moves the
+/// particles after it, by about an overlap: the list pass's branches).
+std::pair<Vec3, Vec3> measured_on(const SimulationState& start, int threads) {
+  RestoreThreads restore;
+  omp_set_num_threads(threads);
+  Simulation sim(start);
+  const std::vector<Vec3> frac = sim.particles().frac;
+  const PeriodicCell cell = sim.cell();
+  EXPECT_TRUE(sim.step(true)) << sim.failure();
+  EXPECT_NE(sim.last_evaluation_sums(), nullptr);
+  const NeighborList& list = sim.neighbor_list();
+  const PairData& pd = list.pairs();
+  const auto& off = list.offsets();
+  const double kt_ratio = HertzMindlin(sim.settings().material).tangential_ratio();
+  Vec3 plain{};
+  for (std::size_t i = 0; i + 1 < off.size(); ++i)
+    for (std::int32_t e = off[i]; e < off[i + 1]; ++e) {
+      const AxisStiffnessTerm t =
+          axis_stiffness_term(cell.branch(frac[i], frac[pd.partner[e]]), pd.force[e], pd.half_overlap[e], kt_ratio);
+      if (!t.none) plain = plain + Vec3{t.d2.x * t.stiffness.x, t.d2.y * t.stiffness.y, t.d2.z * t.stiffness.z};
+    }
+  return {axis_stiffness(sim), (1.0 / cell.volume()) * plain};
+}
+
+/// The sums' M equals the plain loop's to 1e-12 (the order of the sums),
+/// is positive, and is the same on one thread and on two, bit for bit.
+void check_sums_against_plain(const SimulationState& start) {
+  const auto [one, plain] = measured_on(start, 1);
+  const auto [two, plain_two] = measured_on(start, 2);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_GT(one[a], 0.0) << "axis " << a;
+    EXPECT_NEAR(one[a], plain[a], 1e-12 * plain[a]) << "axis " << a;
+    EXPECT_EQ(one[a], two[a]) << "axis " << a;
+  }
+}
+
+}  // namespace
+
+TEST(AxisStiffness, AMeasuredStepGivesItFromTheContactSumsOnAnyThreads) {
+  // 1500 spheres (3 chunks: a team of two splits them), loaded
+  Simulation sim = compressed_cloud();
+  check_sums_against_plain(sim.state());
+  // an unmeasured step after it: the list pass again
+  Simulation again(sim.state());
+  ASSERT_TRUE(again.step(true));
+  ASSERT_TRUE(again.step(false));
+  if (again.steps() % again.settings().check_interval != 0) {
+    EXPECT_EQ(again.last_evaluation_sums(), nullptr);
+    EXPECT_EQ(axis_stiffness(again).x, axis_stiffness_of_list(again).x);
+  }
+}
+
+TEST(AxisStiffness, SpheroidContactSumsMatchThePlainLoopOnAnyThreads) {
+  // 1500 spheroids of aspect 1.2 compressed isotropically into contact
+  vt::test::CloudScene sc = vt::test::spheroid_cloud(1500, 1.2, 0.6, 7);
+  Simulation sim(std::move(sc.particles), sc.cell, vt::test::undamped(0.3));
+  const double rate = 1e-3 / sim.time_scale().t0;
+  sim.set_strain_rates({-rate, -rate, -rate});
+  ASSERT_EQ(sim.run(700), 700) << sim.failure();
+  ASSERT_GT(sim.measures().contacts, 300);
+  check_sums_against_plain(sim.state());
 }

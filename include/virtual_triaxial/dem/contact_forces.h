@@ -120,6 +120,9 @@ struct ContactSums {
   std::int64_t sliding = 0;
   double sum_force = 0;             ///< sum |F_c| [N] (only when measuring)
   double sum_force2 = 0;            ///< sum |F_c|^2 [N^2] (only when measuring)
+  /// sum_c d_a^2 (K_n n_a^2 + K_t (1 - n_a^2)) per axis a [N m]; /V = the
+  /// axis stiffness M_a (axis_stiffness.h, axis_stiffness_term.h; only when measuring)
+  Vec3 axis_stiffness_sum;
   SpheroidContactStats spheroid;   ///< contact-solver counters (pairs with a spheroid)
 
   void add(const ContactSums& o);
