@@ -17,8 +17,7 @@ Vec3 axis_stiffness_of_list(const Simulation& sim) {
   const NeighborList& list = sim.neighbor_list();
   const PairData& pd = list.pairs();
   const auto& off = list.offsets();
-  const Material& mat = sim.settings().material;
-  const double kt_ratio = 2.0 * (1.0 - mat.poisson) / (2.0 - mat.poisson);  // eq. 114
+  const double kt_ratio = HertzMindlin(sim.settings().material).tangential_ratio();  // eq. 114
   const std::int32_t* owner = list.owners().data();
   const std::int32_t entries = off.empty() ? 0 : off.back();
   // The contacts of each block of entries are listed first without a jump

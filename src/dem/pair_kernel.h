@@ -193,8 +193,8 @@ struct ChunkSums {
 using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,
                                    Vec3*, double*);
 
-/// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy and
-/// force norms, `viscous` the contact dashpots. One kernel for one thread
+/// Sphere kernel (sphere_pairs.cpp); `measure` adds the elastic energy,
+/// force norms and axis stiffness terms, `viscous` the contact dashpots. One kernel for one thread
 /// and for a team: the test of PairInputs::home costs nothing measurable on
 /// one thread (1.004, session 21; 0.994 at 12 000 and 1.013 at 10^5 when
 /// the variant without it was removed, session 22), so none is kept.

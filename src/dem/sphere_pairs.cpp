@@ -102,7 +102,8 @@ inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e
 /// double loop over particles and their entries. Entries not in contact hold
 /// zero force and moment (so the gather may add every entry); one that was in
 /// contact at the last evaluation also loses its spring. Measure = false
-/// skips what only measured steps use (elastic energy, force norms).
+/// skips what only measured steps use (elastic energy, force norms, the axis
+/// stiffness terms).
 template <bool Measure, bool Viscous>
 ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int32_t i_end,
                            std::int32_t* c_entry, std::int32_t* s_entry, Vec3* c_branch, double* c_dist2) {

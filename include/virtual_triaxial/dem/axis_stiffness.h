@@ -19,8 +19,8 @@ namespace vt::dem {
 /// (ContactSums::axis_stiffness_sum, summed per chunk with the other contact
 /// sums: no pass of its own, and the same on any number of threads), else by
 /// a pass over the neighbour list (axis_stiffness_of_list). The two differ
-/// in the last bits (the order of the sums; the list pass also takes the
-/// branches at the particles' current positions, one step on).
+/// slightly: the order of the sums, and the list pass takes the branches
+/// and the volume one step on (the particles' and the cell's motion).
 Vec3 axis_stiffness(const Simulation& sim);
 
 /// M_i by a pass over the neighbour list: the pair states' forces and

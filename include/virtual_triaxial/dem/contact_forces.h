@@ -131,8 +131,8 @@ struct ContactSums {
 class ContactForces {
  public:
   /// Evaluate every pair and sum the per-particle force and torque.
-  /// `measure` adds the per-contact force norms needed by UFR and I_uf and
-  /// the elastic energy.
+  /// `measure` adds the per-contact force norms needed by UFR and I_uf, the
+  /// elastic energy and the servo's axis stiffness terms.
   ContactSums compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
                       const HertzMindlin& law, double dt, bool measure,
                       std::vector<Vec3>& force, std::vector<Vec3>& torque);
