@@ -145,10 +145,9 @@ struct ChunkSums {
   ContactSums acc;
   double vxx = 0, vxy = 0, vxz = 0, vyx = 0, vyy = 0, vyz = 0, vzx = 0, vzy = 0, vzz = 0;
   /// Lane k of a kernel's lanes (fields dx, dy, dz, energy, friction, power,
-  /// ratio, sliding, f2), whose force on j is f; S: the group's axis
-  /// stiffness terms (computed when Measure).
-  template <bool Measure, bool Viscous, class Lanes, int N>
-  void add(const Lanes& L, int k, const Vec3& f, const StiffnessLanes<N>& S, double dt) {
+  /// ratio, sliding, f2), whose force on j is f.
+  template <bool Measure, bool Viscous, class Lanes>
+  void add(const Lanes& L, int k, const Vec3& f, double dt) {
     // Fused multiply-adds written out: whether the compiler fuses each of
     // them otherwise depends on the code around (it once fused eight of the
     // nine), and the stress feeds the servo, so a run would follow it.
@@ -164,15 +163,19 @@ struct ChunkSums {
     if (Measure) {
       acc.sum_force2 += L.f2[k];
       acc.sum_force += std::sqrt(L.f2[k]);
-      // the servo's axis stiffness, from the same contacts: no pass over
-      // the list of its own (axis_stiffness.h)
-      if (S.none[k] == 0) {
-        Vec3& m = acc.axis_stiffness_sum;
-        m.x = std::fma(S.d2x[k], S.kx[k], m.x);
-        m.y = std::fma(S.d2y[k], S.ky[k], m.y);
-        m.z = std::fma(S.d2z[k], S.kz[k], m.z);
-      }
     }
+  }
+  /// Measured steps only, after add: lane k's axis stiffness term (S: its
+  /// group's), so the servo's stiffness takes no pass over the list of its
+  /// own (axis_stiffness.h). A call of its own, so that the unmeasured
+  /// kernels do not see S at all.
+  template <int N>
+  void add_stiffness(const StiffnessLanes<N>& S, int k) {
+    if (S.none[k] != 0) return;
+    Vec3& m = acc.axis_stiffness_sum;
+    m.x = std::fma(S.d2x[k], S.kx[k], m.x);
+    m.y = std::fma(S.d2y[k], S.ky[k], m.y);
+    m.z = std::fma(S.d2z[k], S.kz[k], m.z);
   }
   /// The sums with `contacts` contacts.
   ContactSums finish(std::int64_t contacts) {

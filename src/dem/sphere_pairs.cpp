@@ -191,7 +191,8 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         tj = fused_multiply_add(L.lj[k], m, tj);
       }
       in.active[e] = hov != 0.0 ? 1 : 0;
-      sums.add<Measure, Viscous>(L, k, f, stiffness, dt);
+      sums.add<Measure, Viscous>(L, k, f, dt);
+      if constexpr (Measure) sums.add_stiffness(stiffness, k);
     }
   }
   return sums.finish(nc);

@@ -291,7 +291,6 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   // Pass 2: the pairs in reach and awake, in list order, kLawLanes at a time
   // (PairGroup): geometry, then the contact law, then stores and sums.
   ChunkSums sums;
-  StiffnessLanes<kLawLanes> stiffness;
   SpheroidContactStats& stats = sums.acc.spheroid;
   stats.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
@@ -308,6 +307,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
     if (in.sleep && gap > floor) sp.wake = in.clock + 0.5 * (gap - floor);
   };
   const auto run_group = [&]() {
+    StiffnessLanes<kLawLanes> stiffness;  // measured steps: the group's axis stiffness terms
     const int n = g.n;
     g.set_bodies(in.body);
     bool warm = false;
@@ -376,7 +376,8 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
         fj += f;
         tj += mj;
       }
-      sums.add<Measure, Viscous>(L, k, f, stiffness, dt);
+      sums.add<Measure, Viscous>(L, k, f, dt);
+      if constexpr (Measure) sums.add_stiffness(stiffness, k);
       ++contacts;
     }
     g.n = 0;
