@@ -7,8 +7,9 @@
 # fastest, S = sum_c (1 / cost_c) / max_c (1 / cost_c) (2 when they are
 # alike; a two-thread run cannot beat it, whatever the code); then, in the
 # same round, a run on all of them (unpinned), its cost, ours = the fastest
-# CPU's one-thread cost over it, and ours / S; then the medians. On this project's 2-vCPU VM the two have differed by 1.35x at
-# times and been alike at others (bench/results/2026-12-04-s30/, E17).
+# CPU's one-thread cost over it, and ours / S; then the medians. On this
+# project's 2-vCPU VM the two have differed by 1.35x at times and been alike
+# at others (bench/results/2026-12-04-s30/, E17).
 #
 #   bench/core_speeds.sh ROUNDS TILE STEPS [SAMPLE]
 #   bench/core_speeds.sh 5 3x2x2 1500               # 12 000 dense spheres
@@ -42,15 +43,13 @@ for ((r = 1; r <= R; ++r)); do
     line+=("${v}")
     echo "${v}" >>"${work}/cpu${c}"
   done
-  read -r ratio ceiling < <(printf '%s\n' "${line[@]}" |
-    awk '{ c[NR] = $1 } END { lo = c[1]; hi = c[1]; s = 0
-          for (i = 1; i <= NR; ++i) { if (c[i] < lo) lo = c[i]; if (c[i] > hi) hi = c[i]; s += 1 / c[i] }
-          printf "%.3f %.3f\n", hi / lo, s * lo }')
   team="$(cost all)"
   [[ -n "${team}" ]] || { echo "core_speeds: triax_bench on ${#cpus[@]} threads printed no cost" >&2; exit 1; }
-  read -r ours share < <(printf '%s\n' "${line[@]}" |
-    awk -v t="${team}" -v s="${ceiling}" '{ c[NR] = $1 } END { lo = c[1]; for (i = 2; i <= NR; ++i) if (c[i] < lo) lo = c[i]
-          printf "%.3f %.3f\n", lo / t, lo / t / s }')
+  # lo: the fastest CPU's cost; S = lo * sum 1/cost; ours = lo / team
+  read -r ratio ceiling ours share < <(printf '%s\n' "${line[@]}" |
+    awk -v t="${team}" '{ c[NR] = $1 } END { lo = c[1]; hi = c[1]; s = 0
+          for (i = 1; i <= NR; ++i) { if (c[i] < lo) lo = c[i]; if (c[i] > hi) hi = c[i]; s += 1 / c[i] }
+          printf "%.3f %.3f %.3f %.3f\n", hi / lo, s * lo, lo / t, lo / t / (s * lo) }')
   for k in ratio ceiling team ours share; do echo "${!k}" >>"${work}/${k}"; done
   printf '%-6s' "${r}"; printf ' %9s' "${line[@]}"; printf ' %9s %9s %9s %9s %9s\n' "${ratio}" "${ceiling}" "${team}" "${ours}" "${share}"
 done

@@ -14,6 +14,7 @@
 
 #include <cmath>
 
+#include "support/omp_threads.h"
 #include "support/scenes.h"
 #include "virtual_triaxial/dem/axis_stiffness.h"
 #include "virtual_triaxial/dem/axis_stiffness_term.h"
@@ -133,11 +134,7 @@ TEST(AxisStiffness, ARestoredRunHasNoneUntilItsFirstStepThenTheSame) {
 
 namespace {
 
-/// Restores the caller's OpenMP thread count, also when an assertion ends a test early.
-struct RestoreThreads {
-  int count = omp_get_max_threads();
-  ~RestoreThreads() { omp_set_num_threads(count); }
-};
+using vt::test::RestoreThreads;
 
 /// M after one measured step from `start` on `threads` threads: from the
 /// contact sums (axis_stiffness) and by a plain loop over the list entries
@@ -187,7 +184,7 @@ TEST(AxisStiffness, AMeasuredStepGivesItFromTheContactSumsOnAnyThreads) {
   // anyway): the list pass again
   Simulation again(sim.state());
   ASSERT_TRUE(again.step(true));
-  ASSERT_NE((again.steps()) % again.settings().check_interval, 0);  // the next step's index
+  ASSERT_NE(again.steps() % again.settings().check_interval, 0);  // the next step's index
   ASSERT_TRUE(again.step(false));
   EXPECT_EQ(again.last_evaluation_sums(), nullptr);
   EXPECT_EQ(axis_stiffness(again).x, axis_stiffness_of_list(again).x);

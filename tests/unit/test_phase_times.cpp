@@ -17,6 +17,7 @@
 
 #include <string>
 
+#include "support/omp_threads.h"
 #include "support/scenes.h"
 #include "support/spheroid_scenes.h"
 #include "virtual_triaxial/dem/periodic_tiling.h"
@@ -90,11 +91,7 @@ TEST(PhaseTimes, WaitsSplitIntoImbalanceSteadyPartAndOverhead) {
 
 namespace {
 
-/// Restores the caller's OpenMP thread count, also when an assertion ends a test early.
-struct RestoreThreads {
-  int count = omp_get_max_threads();
-  ~RestoreThreads() { omp_set_num_threads(count); }
-};
+using vt::test::RestoreThreads;
 
 /// Steps `start` 5 steps on one thread, 5 on `threads` (the team's plan is
 /// made), resets the timers and steps 20 more; checks the invariants of

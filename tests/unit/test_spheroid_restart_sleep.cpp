@@ -15,6 +15,7 @@
 #include <string>
 #include <utility>
 
+#include "support/omp_threads.h"
 #include "support/scenes.h"
 #include "support/spheroid_scenes.h"
 #include "virtual_triaxial/dem/chunked.h"
@@ -94,10 +95,7 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
       vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
   const std::size_t n = start.particles.size();
   ASSERT_GT(n, 4u * static_cast<std::size_t>(kChunkSize));
-  struct RestoreThreads {  // also when an assertion ends the test early
-    int count;
-    ~RestoreThreads() { omp_set_num_threads(count); }
-  } restore{omp_get_max_threads()};
+  vt::test::RestoreThreads restore;
   omp_set_num_threads(1);
   Simulation one(start);
   ASSERT_EQ(one.run(200), 200) << one.failure();

@@ -85,10 +85,11 @@ class Simulation {
   /// Measures of the last measured step (call step(true) first).
   Measures measures() const;
   /// The contact sums of the last force evaluation when that step was
-  /// measured (step(true)), else nullptr; volume(): the cell's then.
+  /// measured (step(true)), else nullptr.
   const ContactSums* last_evaluation_sums() const {
     return last_step_ >= 0 && last_step_ + 1 == steps_ ? &last_contacts_ : nullptr;
   }
+  /// The cell's volume at the last measured step's force evaluation [m^3].
   double last_measured_volume() const { return last_volume_; }
   /// Stress [Pa] of the last force evaluation (every step, cheap):
   /// Love-Weber average (eq. 127), symmetrised, compression positive.
