@@ -3,8 +3,12 @@
 same packing, run by Debian's LAMMPS (`lmp`) and by triax_run, interleaved.
 
 usage: bench/lammps_side_by_side.sh [--sample config/samples/dense_1000.h5]
-       [--strain 0.05] [--rate 1e-5] [--threads "1 2"] [--rounds 3]
+       [--tile KxKyKz] [--strain 0.05] [--rate 1e-5] [--threads "1 2"] [--rounds 3]
        [--lammps-ct 1.6] [--ours "ct0.3 contacts"] [--out DIR]
+
+--tile: both codes run KxKyKz periodic copies of the sample instead
+(triax_import --tile: the same packing, stored in slab order as OUT/tiled.h5;
+e.g. 3x2x2 of dense_1000.h5 gives 12 000 spheres).
 
 What runs (units SI, compression positive):
   LAMMPS: the sample as a data file (triax_import --to-lammps; atom_style
@@ -28,7 +32,10 @@ strain (LAMMPS: its "Loop time", without its setup; ours: the run's wall
 time, with the stage's setup and first results flush), the whole process's
 wall time (proc_s: start-up, reading the sample, the run, writing the
 results; what a user waits for), cost per particle-step (from the first), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the
-end; the load average beside each round. Data in OUT/side_by_side.json.
+end; the load average beside each round; then, per code, the median over
+rounds of each round's wall time on the fewest threads over that on each
+other thread count (the speed-up; runs of one round are interleaved). Data in
+OUT/side_by_side.json.
 """
 import argparse
 import json
@@ -159,6 +166,7 @@ def window(r, strain):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sample", default=os.path.join(ROOT, "config/samples/dense_1000.h5"))
+    ap.add_argument("--tile", default=None, help="KxKyKz: periodic copies of the sample (triax_import --tile)")
     ap.add_argument("--strain", type=float, default=0.05)
     ap.add_argument("--rate", type=float, default=1e-5, help="dimensionless axial rate eps' = eps_dot T0")
     ap.add_argument("--threads", default="1 2")
@@ -174,6 +182,14 @@ def main():
     # absolute: LAMMPS runs in it and reads the data file by this path
     out = os.path.abspath(a.out or tempfile.mkdtemp(prefix="vt_lammps_"))
     os.makedirs(out, exist_ok=True)
+    if a.tile:
+        tiled = os.path.join(out, "tiled.h5")
+        p = subprocess.run([os.path.join(BIN, "triax_import"), "--tile", a.sample, "--factors", a.tile, "--out", tiled],
+                           capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"lammps_side_by_side: --tile {a.tile}: {p.stderr.strip()}")
+        print("# tiled: " + ", ".join(p.stdout.split("\n")[:-1]), flush=True)
+        a.sample = tiled
     s = sample_facts(a.sample)
     data = os.path.join(out, "sample.data")
     subprocess.run([os.path.join(BIN, "triax_import"), "--to-lammps", a.sample, "--out", data], check=True,
@@ -232,9 +248,20 @@ def main():
         table.append(row)
         print(f"{code:<16} {t:>2} {row['dt_t0']:7.3f} {row['steps']:7.0f} {row['wall_s']:8.2f} {row['process_s']:7.2f} "
               f"{row['us_per_particle_step']:10.4f} {qp:11.4f} {ev:10.5f} {rs[0]['phi_peak']:6.2f} {lat / 1e3:7.1f} {' '.join(row['loads'])}")
+    speedups = []
+    fewest = min(a.threads.split(), key=int)
+    for (code, t), rs in cases.items():
+        if t == fewest:
+            continue
+        ratios = [b["wall"] / r["wall"] for b, r in zip(cases[(code, fewest)], rs)]
+        speedups.append({"code": code, "threads": int(t), "over_threads": int(fewest),
+                         "median": statistics.median(ratios), "rounds": ratios})
+        print(f"speed-up {code:<16} {t} over {fewest} threads: median {statistics.median(ratios):.3f} "
+              f"(rounds {' '.join(f'{x:.3f}' for x in ratios)})")
     with open(os.path.join(out, "side_by_side.json"), "w") as f:
-        json.dump({"sample": a.sample, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
-                   "date": time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime()), "cases": table}, f, indent=1)
+        json.dump({"sample": a.sample, "tile": a.tile, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
+                   "date": time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime()), "cases": table,
+                   "speedups": speedups}, f, indent=1)
     print(f"# data: {out}/side_by_side.json")
 
 

@@ -109,6 +109,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -120,6 +121,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -202,17 +204,11 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// "K" or "KxKyKz", factors in [1, 100].
+/// "K" or "KxKyKz", factors in [1, 100] (parse_tile_factors).
 bool parse_tile(const char* s, int out[3]) {
-  int k[3] = {0, 0, 0};
-  char tail = 0;
-  const int got = std::sscanf(s, "%dx%dx%d%c", &k[0], &k[1], &k[2], &tail);
-  if (got == 1 && std::sscanf(s, "%d%c", &k[0], &tail) == 1) k[1] = k[2] = k[0];
-  else if (got != 3) return false;
-  for (int a = 0; a < 3; ++a) {
-    if (k[a] < 1 || k[a] > 100) return false;
-    out[a] = k[a];
-  }
+  const std::optional<std::array<int, 3>> k = vt::dem::parse_tile_factors(s);
+  if (!k) return false;
+  for (int a = 0; a < 3; ++a) out[a] = (*k)[static_cast<std::size_t>(a)];
   return true;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -101,6 +102,18 @@ SimulationState tile_periodic(const SimulationState& s, int kx, int ky, int kz) 
   e.kinetic_reference *= kk;
   e.elastic_reference *= kk;
   return t;
+}
+
+std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text) {
+  std::array<int, 3> k{0, 0, 0};
+  char tail = 0;
+  const char* s = text.c_str();
+  const int got = std::sscanf(s, "%dx%dx%d%c", &k[0], &k[1], &k[2], &tail);
+  if (got == 1 && std::sscanf(s, "%d%c", &k[0], &tail) == 1) k[1] = k[2] = k[0];
+  else if (got != 3) return std::nullopt;
+  for (int f : k)
+    if (f < 1 || f > kTileFactorMax) return std::nullopt;
+  return k;
 }
 
 }  // namespace vt::dem

@@ -2,6 +2,7 @@
 //              [--poisson-ratio NU] [--friction MU] [--damping-ratio XI]
 // triax_import --to-lammps sample.h5 --out FILE.data
 // triax_import --sort sample.h5 --out sorted.h5
+// triax_import --tile sample.h5 --factors KxKyKz --out tiled.h5
 //
 // Brings a packing made by LAMMPS (a data file of atom_style sphere, units
 // si; io/lammps_data_file.h) into a sample file that triax_run, the rig and
@@ -15,14 +16,23 @@
 // written before session 14 or by other tools (the shipped
 // dense_4000.h5 and loose_4000.h5 were re-stored with it). Do not sort a
 // state that a protocol is meant to continue bit for bit.
+// --tile stores kx x ky x kz periodic copies of a sample (dem::tile_periodic:
+// the same state, void ratio, contacts per particle and stress, with the
+// contact histories carried over) in slab order, as a larger sample of the
+// same packing (e.g. 12 000 spheres from dense_1000.h5 with 3x2x2, for
+// bench/lammps_side_by_side.sh --tile); K alone means K x K x K.
 // Prints a summary (particles, void ratio, mean stress, contacts per
 // particle of the first step). Exit codes: 0 done, 2 bad input (one line
 // naming the file and line, or the flag).
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
+#include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
 #include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/lammps_data_file.h"
@@ -35,8 +45,21 @@ int usage(const std::string& msg) {
   std::cerr << "usage: triax_import --lammps FILE.data --out sample.h5 [--young-modulus PA] [--poisson-ratio NU]\n"
                "                    [--friction MU] [--damping-ratio XI]\n"
                "       triax_import --to-lammps sample.h5 --out FILE.data\n"
-               "       triax_import --sort sample.h5 --out sorted.h5\n";
+               "       triax_import --sort sample.h5 --out sorted.h5\n"
+               "       triax_import --tile sample.h5 --factors KxKyKz --out tiled.h5\n";
   return 2;
+}
+
+/// Particles, void ratio, mean stress and contacts per particle of the
+/// first step of a copy of `st` (st itself is stored unstepped); throws when
+/// that step fails.
+void print_state(const vt::dem::SimulationState& st) {
+  vt::dem::Simulation sim(st);
+  if (!sim.step(true)) throw std::runtime_error("first step failed: " + sim.failure());
+  const vt::dem::Measures m = sim.measures();
+  std::printf("particles: %zu\nvoid_ratio: %.4f\nmean_stress_pa: %.1f\ncontacts_per_particle: %.3f\n",
+              st.particles.size(), m.void_ratio, m.p,
+              static_cast<double>(m.contacts) / static_cast<double>(st.particles.size()));
 }
 
 bool number(const char* text, double& out) {
@@ -49,7 +72,8 @@ bool number(const char* text, double& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string lammps, to_lammps, sort, out;
+  std::string lammps, to_lammps, sort, tile, out;
+  std::optional<std::array<int, 3>> factors;
   vt::dem::Material mat;
   double xi = 0.02;
   for (int a = 1; a < argc; ++a) {
@@ -59,6 +83,13 @@ int main(int argc, char** argv) {
     if (k == "--lammps" && v) lammps = v;
     else if (k == "--to-lammps" && v) to_lammps = v;
     else if (k == "--sort" && v) sort = v;
+    else if (k == "--tile" && v) tile = v;
+    else if (k == "--factors") {
+      factors = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
+      if (!factors)
+        return usage("--factors needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) +
+                     "], not '" + (v ? v : "") + "'");
+    }
     else if (k == "--out" && v) out = v;
     else if (k == "--young-modulus" && number(v, x)) mat.young = x;
     else if (k == "--poisson-ratio" && number(v, x)) mat.poisson = x;
@@ -68,8 +99,9 @@ int main(int argc, char** argv) {
     else return usage(k + ": unknown flag or missing/invalid value");
     ++a;
   }
-  if (out.empty() || (!lammps.empty()) + (!to_lammps.empty()) + (!sort.empty()) != 1)
-    return usage("give --out and exactly one of --lammps, --to-lammps, --sort");
+  if (out.empty() || (!lammps.empty()) + (!to_lammps.empty()) + (!sort.empty()) + (!tile.empty()) != 1)
+    return usage("give --out and exactly one of --lammps, --to-lammps, --sort, --tile");
+  if (tile.empty() == factors.has_value()) return usage("--factors goes with --tile, and --tile needs it");
   const std::string bad = mat.validate();
   if (!bad.empty()) return usage(bad);
   try {
@@ -86,21 +118,31 @@ int main(int argc, char** argv) {
       std::printf("particles: %zu\nsorted: slab order\nwrote: %s\n", st.particles.size(), out.c_str());
       return 0;
     }
+    if (!tile.empty()) {
+      vt::io::SampleMetadata meta;
+      const auto& k = *factors;
+      vt::dem::SimulationState st = vt::dem::tile_periodic(vt::io::read_sample(tile, &meta), k[0], k[1], k[2]);
+      vt::dem::order_new_specimen(st);  // a new specimen: slab order above 1536 particles
+      const std::string by = std::to_string(k[0]) + "x" + std::to_string(k[1]) + "x" + std::to_string(k[2]);
+      meta.created_by = "triax_import --tile " + tile + " --factors " + by;
+      meta.description = "periodic copies " + by + " of " + tile + (meta.description.empty() ? "" : ": ") +
+                         meta.description;
+      print_state(st);
+      vt::io::write_sample(out, st, meta);
+      std::printf("tile: %s\nwrote: %s\n", by.c_str(), out.c_str());
+      return 0;
+    }
     vt::dem::SimulationSettings settings;
     settings.damping = vt::dem::MassDamping(vt::dem::DampingModel::OD, xi);
     vt::dem::SimulationState st = vt::io::read_lammps_data(lammps, mat, settings);
     vt::dem::order_new_specimen(st);  // a new specimen
-    vt::dem::Simulation sim(st);
-    if (!sim.step(true)) throw std::runtime_error("first step failed: " + sim.failure());
-    const vt::dem::Measures m = sim.measures();
+    print_state(st);
     vt::io::SampleMetadata meta;
     meta.software_version = "virtual_triaxial 0.1.0";
     meta.created_by = "triax_import --lammps " + lammps;
     meta.description = "imported from a LAMMPS data file (no contact history)";
     vt::io::write_sample(out, st, meta);
-    std::printf("particles: %zu\nvoid_ratio: %.4f\nmean_stress_pa: %.1f\ncontacts_per_particle: %.3f\nwrote: %s\n",
-                st.particles.size(), m.void_ratio, m.p,
-                static_cast<double>(m.contacts) / static_cast<double>(st.particles.size()), out.c_str());
+    std::printf("wrote: %s\n", out.c_str());
   } catch (const std::exception& e) {
     std::cerr << "triax_import: " << e.what() << "\n";
     return 2;

@@ -2,15 +2,23 @@
 // sample are the same packing, so the tiled sample keeps the void ratio and
 // contacts per particle of the original exactly, its stress tensor to
 // round-off, and every copy of a particle feels the original's force.
+// The tools' tiling argument (parse_tile_factors) and triax_import --tile,
+// which stores such copies in slab order as a sample file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
+#include "support/cli.h"
 #include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
+#include "virtual_triaxial/dem/spatial_sort.h"
 #include "virtual_triaxial/io/sample_file.h"
 
 namespace fs = std::filesystem;
@@ -71,4 +79,53 @@ TEST(PeriodicTiling, IdsStayUniqueAndOrderedInContacts) {
   EXPECT_EQ(std::adjacent_find(ids.begin(), ids.end()), ids.end());
   for (const dem::ContactHistory& c : t.contacts) EXPECT_LT(c.id_a, c.id_b);
   EXPECT_THROW(dem::tile_periodic(shipped("dense_1000.h5"), 0, 1, 1), std::invalid_argument);
+}
+
+TEST(PeriodicTiling, TileArgumentTakesKOrKxKyKzInRange) {
+  using Factors = std::optional<std::array<int, 3>>;
+  EXPECT_EQ(dem::parse_tile_factors("3x2x2"), (Factors{{3, 2, 2}}));
+  EXPECT_EQ(dem::parse_tile_factors("4"), (Factors{{4, 4, 4}}));
+  EXPECT_EQ(dem::parse_tile_factors("1x100x1"), (Factors{{1, 100, 1}}));
+  for (const char* bad : {"", "x", "0", "3x0x2", "3x2", "3x2x2x", "3x2x2 ", "101", "2x-1x2", "2y2y2", "4k"})
+    EXPECT_EQ(dem::parse_tile_factors(bad), std::nullopt) << "'" << bad << "'";
+}
+
+// triax_import --tile: the stored sample is tile_periodic's state in slab
+// order, the same bits (positions, contact histories), and keeps the source's
+// metadata but for who made it; bad factors exit 2 naming the flag.
+TEST(PeriodicTiling, TriaxImportTileStoresSlabOrderedCopies) {
+  const fs::path dir = vt::test::scratch_dir("periodic_tiling_import");
+  const std::string in = (fs::path(VT_SOURCE_DIR) / "config/samples/dense_1000.h5").string();
+  const fs::path out = dir / "tiled.h5";
+  vt::test::CliRun r = vt::test::run_program("triax_import", "--tile " + in + " --factors 2x1x2 --out " + out.string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("particles: 4000"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tile: 2x1x2"), std::string::npos) << r.out;
+  io::SampleMetadata source, got;
+  const dem::SimulationState original = io::read_sample(in, &source);
+  const dem::SimulationState stored = io::read_sample(out.string(), &got);
+  dem::SimulationState expected = dem::tile_periodic(original, 2, 1, 2);
+  dem::spatial_sort(expected);  // 4000 particles: a new specimen is sorted
+  ASSERT_EQ(stored.particles.size(), expected.particles.size());
+  EXPECT_EQ(stored.particles.id, expected.particles.id);
+  EXPECT_EQ(std::memcmp(stored.particles.frac.data(), expected.particles.frac.data(),
+                        expected.particles.size() * sizeof(dem::Vec3)),
+            0);
+  ASSERT_EQ(stored.contacts.size(), expected.contacts.size());
+  for (std::size_t k = 0; k < expected.contacts.size(); ++k) {
+    ASSERT_EQ(stored.contacts[k].id_a, expected.contacts[k].id_a) << k;
+    ASSERT_EQ(stored.contacts[k].id_b, expected.contacts[k].id_b) << k;
+    ASSERT_EQ(std::memcmp(&stored.contacts[k].spring, &expected.contacts[k].spring, sizeof(dem::Vec3)), 0) << k;
+  }
+  for (int r2 = 0; r2 < 3; ++r2)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(stored.h.m[r2][c], expected.h.m[r2][c]) << r2 << c;
+  EXPECT_EQ(got.seed, source.seed);
+  EXPECT_NE(got.created_by.find("--factors 2x1x2"), std::string::npos) << got.created_by;
+  // bad input
+  r = vt::test::run_program("triax_import", "--tile " + in + " --factors 2x0x2 --out " + out.string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--factors needs K or KxKyKz"), std::string::npos) << r.err;
+  r = vt::test::run_program("triax_import", "--tile " + in + " --out " + out.string(), dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--tile needs it"), std::string::npos) << r.err;
 }

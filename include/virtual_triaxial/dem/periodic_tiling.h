@@ -21,6 +21,10 @@
 // budget's extensive terms are multiplied by K.
 #pragma once
 
+#include <array>
+#include <optional>
+#include <string>
+
 #include "virtual_triaxial/dem/simulation.h"
 
 namespace vt::dem {
@@ -28,5 +32,14 @@ namespace vt::dem {
 /// kx x ky x kz periodic copies of `s` (each factor >= 1; throws
 /// std::invalid_argument otherwise or when the ids would overflow).
 SimulationState tile_periodic(const SimulationState& s, int kx, int ky, int kz);
+
+/// The largest factor a tiling argument takes (kTileFactorMax^3 copies of a
+/// 1000-particle sample are 10^9 particles, beyond what the core stores).
+constexpr int kTileFactorMax = 100;
+
+/// The factors of a tiling argument, "K" (K x K x K) or "KxKyKz", each in
+/// [1, kTileFactorMax]; nothing when the text is not of that form (the
+/// tools' --tile flags: triax_bench, triax_import).
+std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text);
 
 }  // namespace vt::dem
