@@ -182,6 +182,7 @@ def main():
     # absolute: LAMMPS runs in it and reads the data file by this path
     out = os.path.abspath(a.out or tempfile.mkdtemp(prefix="vt_lammps_"))
     os.makedirs(out, exist_ok=True)
+    source = a.sample
     if a.tile:
         tiled = os.path.join(out, "tiled.h5")
         p = subprocess.run([os.path.join(BIN, "triax_import"), "--tile", a.sample, "--factors", a.tile, "--out", tiled],
@@ -259,7 +260,7 @@ def main():
         print(f"speed-up {code:<16} {t} over {fewest} threads: median {statistics.median(ratios):.3f} "
               f"(rounds {' '.join(f'{x:.3f}' for x in ratios)})")
     with open(os.path.join(out, "side_by_side.json"), "w") as f:
-        json.dump({"sample": a.sample, "tile": a.tile, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
+        json.dump({"sample": a.sample, "source_sample": source, "tile": a.tile, "strain": a.strain, "rate": a.rate, "lammps_ct": a.lammps_ct,
                    "date": time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime()), "cases": table,
                    "speedups": speedups}, f, indent=1)
     print(f"# data: {out}/side_by_side.json")

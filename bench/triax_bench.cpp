@@ -204,7 +204,12 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// "K" or "KxKyKz", factors in [1, 100] (parse_tile_factors).
+/// "K" or "KxKyKz", factors in [1, kTileFactorMax] (parse_tile_factors).
+/// The usage line of a tiling flag.
+std::string tile_usage(const std::string& flag) {
+  return flag + " needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) + "]";
+}
+
 bool parse_tile(const char* s, int out[3]) {
   const std::optional<std::array<int, 3>> k = vt::dem::parse_tile_factors(s);
   if (!k) return false;
@@ -457,7 +462,7 @@ int main(int argc, char** argv) {
         return usage("--alternate needs two different thread counts A,B >= 1");
       ++a;
     } else if (k == "--pair-tile") {
-      if (!v || !parse_tile(v, pair_tile)) return usage("--pair-tile needs K or KxKyKz with factors in [1, 100]");
+      if (!v || !parse_tile(v, pair_tile)) return usage(tile_usage("--pair-tile").c_str());
       ++a;
     } else if (k == "--pair-sample") {
       if (!v || !*v) return usage("--pair-sample needs a sample file");
@@ -498,7 +503,7 @@ int main(int argc, char** argv) {
       sample = v;
       ++a;
     } else if (k == "--tile") {
-      if (!v || !parse_tile(v, tile)) return usage("--tile needs K or KxKyKz with factors in [1, 100]");
+      if (!v || !parse_tile(v, tile)) return usage(tile_usage("--tile").c_str());
       ++a;
     } else if (k == "--no-sort") {
       sort = false;

@@ -1,8 +1,8 @@
 #include "virtual_triaxial/dem/periodic_tiling.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -37,6 +37,10 @@ SimulationState tile_periodic(const SimulationState& s, int kx, int ky, int kz) 
   }
   if (max_id > (std::numeric_limits<std::int64_t>::max() - copies) / copies)
     throw std::invalid_argument("tile: particle ids too large for " + std::to_string(copies) + " copies");
+  // storage indices are 32-bit (the neighbour list's partners and offsets)
+  if (static_cast<double>(n) * static_cast<double>(copies) > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+    throw std::invalid_argument("tile: " + std::to_string(n) + " particles x " + std::to_string(copies) +
+                                " copies is more than the 2^31 - 1 particles the core indexes");
 
   SimulationState t = s;
   t.h = scale_columns(s.h, k);
@@ -105,14 +109,25 @@ SimulationState tile_periodic(const SimulationState& s, int kx, int ky, int kz) 
 }
 
 std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text) {
+  // "K" or three whole numbers joined by 'x': digits only (no sign, space or
+  // other character), each in [1, kTileFactorMax]
   std::array<int, 3> k{0, 0, 0};
-  char tail = 0;
-  const char* s = text.c_str();
-  const int got = std::sscanf(s, "%dx%dx%d%c", &k[0], &k[1], &k[2], &tail);
-  if (got == 1 && std::sscanf(s, "%d%c", &k[0], &tail) == 1) k[1] = k[2] = k[0];
-  else if (got != 3) return std::nullopt;
-  for (int f : k)
-    if (f < 1 || f > kTileFactorMax) return std::nullopt;
+  std::size_t parts = 0, begin = 0;
+  while (true) {
+    const std::size_t end = std::min(text.find('x', begin), text.size());
+    if (parts == 3 || end == begin || end - begin > 3) return std::nullopt;
+    int value = 0;
+    for (std::size_t c = begin; c < end; ++c) {
+      if (text[c] < '0' || text[c] > '9') return std::nullopt;
+      value = 10 * value + (text[c] - '0');
+    }
+    if (value < 1 || value > kTileFactorMax) return std::nullopt;
+    k[parts++] = value;
+    if (end == text.size()) break;
+    begin = end + 1;
+  }
+  if (parts == 1) k[1] = k[2] = k[0];
+  else if (parts != 3) return std::nullopt;
   return k;
 }
 

@@ -18,9 +18,11 @@
 // state that a protocol is meant to continue bit for bit.
 // --tile stores kx x ky x kz periodic copies of a sample (dem::tile_periodic:
 // the same state, void ratio, contacts per particle and stress, with the
-// contact histories carried over) in slab order, as a larger sample of the
-// same packing (e.g. 12 000 spheres from dense_1000.h5 with 3x2x2, for
-// bench/lammps_side_by_side.sh --tile); K alone means K x K x K.
+// contact histories carried over; above 1536 particles in slab order, as any
+// new specimen), as a larger sample of the same packing (e.g. 12 000
+// spheres from dense_1000.h5 with 3x2x2, for bench/lammps_side_by_side.sh
+// --tile); --factors K alone means K x K x K. The metadata are the
+// source's, but for who made it and the description, which names the source.
 // Prints a summary (particles, void ratio, mean stress, contacts per
 // particle of the first step). Exit codes: 0 done, 2 bad input (one line
 // naming the file and line, or the flag).
@@ -88,7 +90,7 @@ int main(int argc, char** argv) {
       factors = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
       if (!factors)
         return usage("--factors needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) +
-                     "], not '" + (v ? v : "") + "'");
+                     "], " + (v ? "not '" + std::string(v) + "'" : std::string("and got no value")));
     }
     else if (k == "--out" && v) out = v;
     else if (k == "--young-modulus" && number(v, x)) mat.young = x;

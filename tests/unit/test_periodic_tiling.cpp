@@ -86,26 +86,39 @@ TEST(PeriodicTiling, TileArgumentTakesKOrKxKyKzInRange) {
   EXPECT_EQ(dem::parse_tile_factors("3x2x2"), (Factors{{3, 2, 2}}));
   EXPECT_EQ(dem::parse_tile_factors("4"), (Factors{{4, 4, 4}}));
   EXPECT_EQ(dem::parse_tile_factors("1x100x1"), (Factors{{1, 100, 1}}));
-  for (const char* bad : {"", "x", "0", "3x0x2", "3x2", "3x2x2x", "3x2x2 ", "101", "2x-1x2", "2y2y2", "4k"})
+  for (const char* bad : {"", "x", "0", "3x0x2", "3x2", "3x2x2x", "3x2x2 ", " 3x2x2", "3x 2x2", "+4", "101",
+                          "2x-1x2", "2y2y2", "4k", "4294967297", "4294967298x1x1"})
     EXPECT_EQ(dem::parse_tile_factors(bad), std::nullopt) << "'" << bad << "'";
+}
+
+TEST(PeriodicTiling, RefusesMoreParticlesThanTheCoreIndexes) {
+  // 4000 x 100^3 = 4e9 > 2^31 - 1: refused before anything is allocated
+  try {
+    dem::tile_periodic(shipped("dense_4000.h5"), dem::kTileFactorMax, dem::kTileFactorMax, dem::kTileFactorMax);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("2^31 - 1 particles"), std::string::npos) << e.what();
+  }
 }
 
 // triax_import --tile: the stored sample is tile_periodic's state in slab
 // order, the same bits (positions, contact histories), and keeps the source's
-// metadata but for who made it; bad factors exit 2 naming the flag.
+// metadata but for who made it and the description (which names the
+// source); bad factors exit 2 naming the flag. Unequal factors, so that
+// axes taken in another order fail.
 TEST(PeriodicTiling, TriaxImportTileStoresSlabOrderedCopies) {
   const fs::path dir = vt::test::scratch_dir("periodic_tiling_import");
   const std::string in = (fs::path(VT_SOURCE_DIR) / "config/samples/dense_1000.h5").string();
   const fs::path out = dir / "tiled.h5";
-  vt::test::CliRun r = vt::test::run_program("triax_import", "--tile " + in + " --factors 2x1x2 --out " + out.string(), dir);
+  vt::test::CliRun r = vt::test::run_program("triax_import", "--tile " + in + " --factors 3x1x2 --out " + out.string(), dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("particles: 4000"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("tile: 2x1x2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("particles: 6000"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tile: 3x1x2"), std::string::npos) << r.out;
   io::SampleMetadata source, got;
   const dem::SimulationState original = io::read_sample(in, &source);
   const dem::SimulationState stored = io::read_sample(out.string(), &got);
-  dem::SimulationState expected = dem::tile_periodic(original, 2, 1, 2);
-  dem::spatial_sort(expected);  // 4000 particles: a new specimen is sorted
+  dem::SimulationState expected = dem::tile_periodic(original, 3, 1, 2);
+  dem::spatial_sort(expected);  // 6000 particles: a new specimen is sorted
   ASSERT_EQ(stored.particles.size(), expected.particles.size());
   EXPECT_EQ(stored.particles.id, expected.particles.id);
   EXPECT_EQ(std::memcmp(stored.particles.frac.data(), expected.particles.frac.data(),
@@ -120,7 +133,10 @@ TEST(PeriodicTiling, TriaxImportTileStoresSlabOrderedCopies) {
   for (int r2 = 0; r2 < 3; ++r2)
     for (int c = 0; c < 3; ++c) EXPECT_EQ(stored.h.m[r2][c], expected.h.m[r2][c]) << r2 << c;
   EXPECT_EQ(got.seed, source.seed);
-  EXPECT_NE(got.created_by.find("--factors 2x1x2"), std::string::npos) << got.created_by;
+  EXPECT_EQ(got.software_version, source.software_version);
+  EXPECT_NE(got.created_by.find("--factors 3x1x2"), std::string::npos) << got.created_by;
+  EXPECT_NE(got.description.find("periodic copies 3x1x2 of " + in), std::string::npos) << got.description;
+  EXPECT_NE(got.description.find(source.description), std::string::npos) << got.description;
   // bad input
   r = vt::test::run_program("triax_import", "--tile " + in + " --factors 2x0x2 --out " + out.string(), dir);
   EXPECT_EQ(r.code, 2);
@@ -128,4 +144,7 @@ TEST(PeriodicTiling, TriaxImportTileStoresSlabOrderedCopies) {
   r = vt::test::run_program("triax_import", "--tile " + in + " --out " + out.string(), dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--tile needs it"), std::string::npos) << r.err;
+  r = vt::test::run_program("triax_import", "--tile " + in + " --out " + out.string() + " --factors", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--factors needs K or KxKyKz"), std::string::npos) << r.err;
 }

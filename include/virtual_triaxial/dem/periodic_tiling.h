@@ -30,16 +30,18 @@
 namespace vt::dem {
 
 /// kx x ky x kz periodic copies of `s` (each factor >= 1; throws
-/// std::invalid_argument otherwise or when the ids would overflow).
+/// std::invalid_argument otherwise, when the ids would overflow, or when the
+/// copies hold more than the 2^31 - 1 particles the core indexes).
 SimulationState tile_periodic(const SimulationState& s, int kx, int ky, int kz);
 
-/// The largest factor a tiling argument takes (kTileFactorMax^3 copies of a
-/// 1000-particle sample are 10^9 particles, beyond what the core stores).
+/// The largest factor a tiling argument takes.
 constexpr int kTileFactorMax = 100;
 
-/// The factors of a tiling argument, "K" (K x K x K) or "KxKyKz", each in
-/// [1, kTileFactorMax]; nothing when the text is not of that form (the
-/// tools' --tile flags: triax_bench, triax_import).
+/// The factors of a tiling argument, "K" (K x K x K) or "KxKyKz": whole
+/// numbers written in digits only (no sign or space), each in
+/// [1, kTileFactorMax]; nothing when the text is not of that form. The
+/// tools' tiling flags: triax_bench --tile and --pair-tile, triax_import
+/// --factors.
 std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text);
 
 }  // namespace vt::dem
