@@ -204,17 +204,9 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// "K" or "KxKyKz", factors in [1, kTileFactorMax] (parse_tile_factors).
-/// The usage line of a tiling flag.
+/// The usage line of a tiling flag (parse_tile_factors).
 std::string tile_usage(const std::string& flag) {
   return flag + " needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) + "]";
-}
-
-bool parse_tile(const char* s, int out[3]) {
-  const std::optional<std::array<int, 3>> k = vt::dem::parse_tile_factors(s);
-  if (!k) return false;
-  for (int a = 0; a < 3; ++a) out[a] = (*k)[static_cast<std::size_t>(a)];
-  return true;
 }
 
 struct Fnv {
@@ -440,10 +432,10 @@ int main(int argc, char** argv) {
   long long alternate[2] = {0, 0};  // --alternate A,B: thread counts taken in turn
   long long block = 200;            // --block: steps per turn
   bool block_given = false;
-  int pair_tile[3] = {0, 0, 0};     // --pair-tile: a second simulation timed in turn
+  std::array<int, 3> pair_tile{0, 0, 0};  // --pair-tile: a second simulation timed in turn
   std::string pair_sample;          // --pair-sample: its sample (default --sample)
   std::string sample;
-  int tile[3] = {1, 1, 1};
+  std::array<int, 3> tile{1, 1, 1};
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
     const char* v = a + 1 < argc ? argv[a + 1] : nullptr;
@@ -462,7 +454,9 @@ int main(int argc, char** argv) {
         return usage("--alternate needs two different thread counts A,B >= 1");
       ++a;
     } else if (k == "--pair-tile") {
-      if (!v || !parse_tile(v, pair_tile)) return usage(tile_usage("--pair-tile").c_str());
+      const std::optional<std::array<int, 3>> f = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
+      if (!f) return usage(tile_usage("--pair-tile").c_str());
+      pair_tile = *f;
       ++a;
     } else if (k == "--pair-sample") {
       if (!v || !*v) return usage("--pair-sample needs a sample file");
@@ -503,7 +497,9 @@ int main(int argc, char** argv) {
       sample = v;
       ++a;
     } else if (k == "--tile") {
-      if (!v || !parse_tile(v, tile)) return usage(tile_usage("--tile").c_str());
+      const std::optional<std::array<int, 3>> f = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
+      if (!f) return usage(tile_usage("--tile").c_str());
+      tile = *f;
       ++a;
     } else if (k == "--no-sort") {
       sort = false;

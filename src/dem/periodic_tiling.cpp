@@ -115,13 +115,14 @@ std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text) {
   std::size_t parts = 0, begin = 0;
   while (true) {
     const std::size_t end = std::min(text.find('x', begin), text.size());
-    if (parts == 3 || end == begin || end - begin > 3) return std::nullopt;
+    if (parts == 3 || end == begin) return std::nullopt;
     int value = 0;
     for (std::size_t c = begin; c < end; ++c) {
       if (text[c] < '0' || text[c] > '9') return std::nullopt;
       value = 10 * value + (text[c] - '0');
+      if (value > kTileFactorMax) return std::nullopt;  // also keeps long numbers from wrapping
     }
-    if (value < 1 || value > kTileFactorMax) return std::nullopt;
+    if (value < 1) return std::nullopt;
     k[parts++] = value;
     if (end == text.size()) break;
     begin = end + 1;
