@@ -17,6 +17,12 @@
 #
 #   bench/paired_targets.sh ROUNDS
 #   STEPS=1000 BLOCK=200 STEPS_1E5=600 BLOCK_1E5=100 bench/paired_targets.sh 5
+#   PIN_ONE="0 1" bench/paired_targets.sh 6
+# PIN_ONE: CPUs to pin the one-thread cases to (taskset), each in turn and
+# reported apart and pooled ("x_N1 one" and "spheroid/sphere one" then
+# median all the CPUs' rounds); unset: unpinned, where the kernel may move
+# the thread between vCPUs that at times differ by 1.3-1.5x in speed
+# (bench/core_speeds.sh).
 # STEPS: steps of each side at 12 000 and of x_N1 (default 1000, as the
 # matrix), in turns of BLOCK steps (default 200); STEPS_1E5: of two / one
 # thread at 10^5 (default 600), in turns of BLOCK_1E5 (default 100). Short
@@ -40,25 +46,42 @@ done
 [[ -x "${BIN}" ]] || { echo "paired_targets: ${BIN} not built" >&2; exit 2; }
 SPH=config/samples/dense_1000.h5
 SPD=config/samples/dense_1000_spheroid.h5
-cases=("two/one 12000" "two/one 1e5" "x_N1 one" "x_N1 two" "spheroid/sphere one" "spheroid/sphere two")
-args=("--tile 3x2x2 --alternate 1,2 --steps ${STEPS}"
-      "--tile 5x5x4 --alternate 1,2 --steps ${STEPS_1E5} --block ${BLOCK_1E5}"
-      "--tile 3x2x2 --threads 1 --pair-tile 5x5x4 --steps ${STEPS}"
-      "--tile 3x2x2 --threads 2 --pair-tile 5x5x4 --steps ${STEPS}"
-      "--tile 3x2x2 --threads 1 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}"
-      "--tile 3x2x2 --threads 2 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}")
-echo "# $(date -u '+%F %H:%M UTC'), ${R} rounds, turns of ${BLOCK} steps (two / one at 10^5: ${BLOCK_1E5}), load average $(cut -d' ' -f1-3 /proc/loadavg)"
-declare -A med
+PIN_ONE="${PIN_ONE:-}"
+for c in ${PIN_ONE}; do
+  [[ "${c}" =~ ^[0-9]+$ ]] || { echo "paired_targets: PIN_ONE must list CPU numbers, not '${c}'" >&2; exit 2; }
+done
+cases=() args=() pins=() pooled=()
+# add_case NAME ARGS ONE_THREAD: a case, or with PIN_ONE one per CPU for a one-thread case
+add_case() {
+  if [[ "$3" == 1 && -n "${PIN_ONE}" ]]; then
+    for c in ${PIN_ONE}; do cases+=("$1 cpu${c}"); args+=("$2"); pins+=("${c}"); pooled+=("$1"); done
+  else
+    cases+=("$1"); args+=("$2"); pins+=(""); pooled+=("")
+  fi
+}
+add_case "two/one 12000" "--tile 3x2x2 --alternate 1,2 --steps ${STEPS}" 0
+add_case "two/one 1e5" "--tile 5x5x4 --alternate 1,2 --steps ${STEPS_1E5} --block ${BLOCK_1E5}" 0
+add_case "x_N1 one" "--tile 3x2x2 --threads 1 --pair-tile 5x5x4 --steps ${STEPS}" 1
+add_case "x_N1 two" "--tile 3x2x2 --threads 2 --pair-tile 5x5x4 --steps ${STEPS}" 0
+add_case "spheroid/sphere one" "--tile 3x2x2 --threads 1 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}" 1
+add_case "spheroid/sphere two" "--tile 3x2x2 --threads 2 --pair-tile 3x2x2 --pair-sample ${SPD} --steps ${STEPS}" 0
+pinning="unpinned"
+[[ -n "${PIN_ONE}" ]] && pinning="pinned to CPUs ${PIN_ONE}"
+echo "# $(date -u '+%F %H:%M UTC'), ${R} rounds, turns of ${BLOCK} steps (two / one at 10^5: ${BLOCK_1E5}), one-thread cases ${pinning}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+declare -A med pool
 for ((r = 1; r <= R; ++r)); do
   line="round ${r}:"
   for k in "${!cases[@]}"; do
+    run=("${BIN}")
+    [[ -n "${pins[k]}" ]] && run=(taskset -c "${pins[k]}" "${BIN}")
     # shellcheck disable=SC2086
-    out="$("${BIN}" --sample "${SPH}" --sort-sample --block "${BLOCK}" ${args[k]} 2>/dev/null)" ||
+    out="$("${run[@]}" --sample "${SPH}" --sort-sample --block "${BLOCK}" ${args[k]} 2>/dev/null)" ||
       { echo "paired_targets: triax_bench failed on '${cases[k]}'" >&2; exit 1; }
     v="$(awk '/^(alternate_speedup|pair_cost_ratio):/ { printf "%s %s %s", $2, $10, $11 }' <<<"${out}" | tr -d ')')"
     read -r m q1 q3 <<<"${v}"
     [[ -n "${m}" ]] || { echo "paired_targets: no ratio from '${cases[k]}'" >&2; exit 1; }
     med[${k}]+="${m} "
+    [[ -n "${pooled[k]}" ]] && pool[${pooled[k]}]+="${m} "
     line+="  ${cases[k]} ${m} (${q1}-${q3})"
   done
   echo "${line}"
@@ -66,5 +89,10 @@ done
 echo "medians over ${R} rounds:"
 for k in "${!cases[@]}"; do
   # shellcheck disable=SC2086
-  printf '  %-20s %s\n' "${cases[k]}" "$(median_of ${med[${k}]})"
+  printf '  %-32s %s\n' "${cases[k]}" "$(median_of ${med[${k}]})"
 done
+for name in "x_N1 one" "spheroid/sphere one"; do
+  # shellcheck disable=SC2086
+  [[ -n "${pool[${name}]:-}" ]] && printf '  %-32s %s\n' "${name}, every CPU" "$(median_of ${pool[${name}]})"
+done
+exit 0
