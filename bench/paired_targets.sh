@@ -91,8 +91,13 @@ for k in "${!cases[@]}"; do
   # shellcheck disable=SC2086
   printf '  %-32s %s\n' "${cases[k]}" "$(median_of ${med[${k}]})"
 done
-for name in "x_N1 one" "spheroid/sphere one"; do
-  # shellcheck disable=SC2086
-  [[ -n "${pool[${name}]:-}" ]] && printf '  %-32s %s\n' "${name}, every CPU" "$(median_of ${pool[${name}]})"
+# the pooled one-thread cases, in the order of the cases (each once)
+declare -A shown
+for k in "${!cases[@]}"; do
+  name="${pooled[k]}"
+  if [[ -n "${name}" && -z "${shown[${name}]:-}" ]]; then
+    shown[${name}]=1
+    # shellcheck disable=SC2086
+    printf '  %-32s %s\n' "${name}, every CPU" "$(median_of ${pool[${name}]})"
+  fi
 done
-exit 0

@@ -204,11 +204,6 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-/// The usage line of a tiling flag (parse_tile_factors).
-std::string tile_usage(const std::string& flag) {
-  return flag + " needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) + "]";
-}
-
 struct Fnv {
   std::uint64_t h = 1469598103934665603ULL;
   void add(const void* data, std::size_t n) {
@@ -455,7 +450,7 @@ int main(int argc, char** argv) {
       ++a;
     } else if (k == "--pair-tile") {
       const std::optional<std::array<int, 3>> f = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
-      if (!f) return usage(tile_usage("--pair-tile").c_str());
+      if (!f) return usage(vt::dem::tile_factors_usage("--pair-tile").c_str());
       pair_tile = *f;
       ++a;
     } else if (k == "--pair-sample") {
@@ -498,7 +493,7 @@ int main(int argc, char** argv) {
       ++a;
     } else if (k == "--tile") {
       const std::optional<std::array<int, 3>> f = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
-      if (!f) return usage(tile_usage("--tile").c_str());
+      if (!f) return usage(vt::dem::tile_factors_usage("--tile").c_str());
       tile = *f;
       ++a;
     } else if (k == "--no-sort") {

@@ -132,4 +132,8 @@ std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text) {
   return k;
 }
 
+std::string tile_factors_usage(const std::string& flag) {
+  return flag + " needs K or KxKyKz, whole numbers in [1, " + std::to_string(kTileFactorMax) + "]";
+}
+
 }  // namespace vt::dem

@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
     else if (k == "--factors") {
       factors = v ? vt::dem::parse_tile_factors(v) : std::nullopt;
       if (!factors)
-        return usage("--factors needs K or KxKyKz, whole numbers in [1, " + std::to_string(vt::dem::kTileFactorMax) +
-                     "], " + (v ? "not '" + std::string(v) + "'" : std::string("and got no value")));
+        return usage(vt::dem::tile_factors_usage("--factors") + ", " +
+                     (v ? "not '" + std::string(v) + "'" : std::string("and got no value")));
     }
     else if (k == "--out" && v) out = v;
     else if (k == "--young-modulus" && number(v, x)) mat.young = x;

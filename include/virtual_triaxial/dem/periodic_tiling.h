@@ -44,4 +44,8 @@ constexpr int kTileFactorMax = 100;
 /// --factors.
 std::optional<std::array<int, 3>> parse_tile_factors(const std::string& text);
 
+/// The message of a tiling flag that parse_tile_factors refused:
+/// "FLAG needs K or KxKyKz, whole numbers in [1, kTileFactorMax]".
+std::string tile_factors_usage(const std::string& flag);
+
 }  // namespace vt::dem
