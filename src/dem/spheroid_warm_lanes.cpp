@@ -1,4 +1,4 @@
-// Warm one-step spheroid solve, eight pairs at a time (formulas in
+// Warm one-step spheroid solve, sixteen pairs at a time (formulas in
 // spheroid_warm_lanes.h and spheroid_contact.h). Compiled with
 // -fno-math-errno -fno-trapping-math (CMakeLists.txt) so the loop, with its
 // square roots, divisions and selects, runs as SIMD.

@@ -85,8 +85,9 @@ void expect_same_lane(const SpheroidWarmLanes& a, int ka, const SpheroidWarmLane
 }  // namespace
 
 TEST(SpheroidWarmLanes, MovingPairsMatchTheScalarSolver) {
-  // Eight pairs of aspect 1 to 2 (b from 0.5 to 2 mm) overlapping by 1e-2 b, each body
-  // turning by 1e-4 rad per step and the centres drifting by 1e-6 b: from
+  // A pair per lane, of aspect 1 to 2 (b from 0.5 to 2 mm) overlapping by
+  // 3e-2 b (enough for all to stay in contact), each body turning by 1e-4
+  // rad per step and the centres drifting by 1e-6 b: from
   // warm caches (extrapolated start) every lane settles in one step, with the overlap,
   // normal and contact point of detect_spheroid_contact to rounding (its
   // Newton step error is ~1e-10 rad, so the overlap agrees to ~b 1e-20 and
@@ -98,7 +99,8 @@ TEST(SpheroidWarmLanes, MovingPairsMatchTheScalarSolver) {
   double b[kLanes];
   for (int k = 0; k < kLanes; ++k) {
     b[k] = 1e-3 * std::pow(2.0, rng.uniform(-1.0, 1.0));
-    pairs[k] = place(rng, b[k], 1.0 + k / 7.0, 2.0 - k / 7.0, 1e-2 * b[k]);
+    const double s = static_cast<double>(k) / (kLanes - 1);
+    pairs[k] = place(rng, b[k], 1.0 + s, 2.0 - s, 3e-2 * b[k]);
     spin_i[k] = rng.direction();
     spin_j[k] = rng.direction();
     drift[k] = (1e-6 * b[k]) * rng.direction();
@@ -250,9 +252,10 @@ TEST(SpheroidWarmLanes, StartsOffUnitLengthMaximaAndFarPairsGoToTheScalarSolver)
 }
 
 TEST(SpheroidWarmLanes, ALaneResultDoesNotDependOnTheOtherLanes) {
-  // The same pair in lane 0 among pairs in contact and in lane 5 among
-  // copies of a pair apart: the same bits (so a pair's result does not
-  // depend on which group, chunk or thread takes it).
+  // The same pair in lane 0 among pairs in contact and in lane 5 (the first
+  // SIMD register) and the last lane (the last register) among copies of a
+  // pair apart: the same bits (so a pair's result does not depend on which
+  // group, chunk, lane or thread takes it).
   Rng rng(31);
   const double b = 1e-3;
   const Pair target = place(rng, b, 1.2, 1.2, 5e-4 * b);
@@ -270,9 +273,11 @@ TEST(SpheroidWarmLanes, ALaneResultDoesNotDependOnTheOtherLanes) {
   c.set(0, SpheroidSupport::of(apart.si), SpheroidSupport::of(apart.sj), apart.d, apart_cache);
   for (int k = 1; k < kLanes; ++k) c.repeat(0, k);
   c.set(5, ti, tj, target.d, target_cache);
+  c.set(kLanes - 1, ti, tj, target.d, target_cache);
   solve_spheroid_warm_lanes(a, kTolerance);
   solve_spheroid_warm_lanes(c, kTolerance);
   EXPECT_EQ(a.outcome(0), WarmOutcome::Solved);
   EXPECT_EQ(c.outcome(0), WarmOutcome::Apart);
   expect_same_lane(a, 0, c, 5);
+  expect_same_lane(a, 0, c, kLanes - 1);
 }

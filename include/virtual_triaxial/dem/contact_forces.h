@@ -33,7 +33,7 @@
 // sample of spheres never runs this code): pairs whose bounding spheres
 // (radius max(a, b) = a, prolate) overlap go through the common-normal
 // solver (spheroid_contact.h; warm-started from the pair's cache kept with
-// its spring; the warm one-step case 8 pairs at a time,
+// its spring; the warm one-step case 16 pairs at a time,
 // spheroid_warm_lanes.h; fallbacks and failures counted in
 // ContactSums::spheroid). A pair
 // with a spheroid gives overlap delta, normal n and contact point c
@@ -52,7 +52,7 @@
 //
 // Performance notes (bench/triax_bench.cpp measures them): the pairs of a
 // 512-particle chunk are first tested for contact in one branch-free pass,
-// then only the contacts are evaluated, 8 at a time for spheres: their
+// then only the contacts are evaluated, 16 at a time for spheres: their
 // inputs gathered into arrays, the contact law (hertz_mindlin.h, written
 // with selects instead of jumps) run by one loop the compiler vectorises
 // (AVX2/AVX-512 with -march=native), the results stored and summed one by
@@ -82,7 +82,7 @@
 // PairState::moment_axis, so the gather reads one line for an entry of
 // another particle (the moment on i is in the SpheroidPairState, read for
 // the particle's own, consecutive entries). The warm solves and the contact
-// law run 8 pairs at a time as SIMD (spheroid_warm_lanes.h,
+// law run 16 pairs at a time as SIMD (spheroid_warm_lanes.h,
 // spheroid_pairs.cpp). Several threads take the thread runs as for
 // spheres (support data included); each thread's pair loop sums its run's
 // particles as on one thread, and after a barrier only the particles of
@@ -160,7 +160,7 @@ class ContactForces {
   /// to both particles (no gather) when the list's pair states take at
   /// least `bytes`; with fewer, a gather after the pair loop re-reads every
   /// pair state. Both give the same bits. Default 0: always the pair loop
-  /// (since the contacts run 8 at a time it is the faster at every N
+  /// (since the contacts run several at a time it is the faster at every N
   /// measured: 0.082 against 0.092 us per particle-step at 1000 dense
   /// spheres, whose pair states fit the L2 cache, 0.086 against 0.096 at
   /// 8000); SIZE_MAX always takes the gather (A/B, tests).

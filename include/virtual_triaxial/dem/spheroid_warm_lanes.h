@@ -1,5 +1,5 @@
 // The warm one-step solve of the spheroid contact (spheroid_contact.h) for
-// up to eight pairs at a time, as SIMD: the common case of a loaded
+// up to sixteen pairs at a time, as SIMD: the common case of a loaded
 // packing, where the extrapolated normal of the pair's cache is within the
 // step tolerance after one Newton step.
 //
@@ -44,11 +44,11 @@ namespace vt::dem {
 /// What the warm lanes found for one pair.
 enum class WarmOutcome : std::int32_t { Apart = 0, Solved = 1, Scalar = 2 };
 
-/// Eight pairs, field by field. Fill lanes with set() (or the bodies'
+/// Sixteen pairs, field by field (two 8-double SIMD registers per field). Fill lanes with set() (or the bodies'
 /// fields directly and set_pair(), as the pair loop does); run
 /// solve_spheroid_warm_lanes(); read the outputs.
 struct SpheroidWarmLanes {
-  static constexpr int kLanes = 8;
+  static constexpr int kLanes = 16;
   // inputs
   double dx[kLanes], dy[kLanes], dz[kLanes];            ///< branch d [m]
   double bi2[kLanes], ki[kLanes], bound_i[kLanes];      ///< body i: b^2, a^2 - b^2 [m^2], max(a, b) [m]
