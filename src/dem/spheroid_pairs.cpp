@@ -21,12 +21,12 @@ struct PairGeometry {
   Vec3 cpt;            ///< contact point relative to x_i [m] (contacts)
 };
 
-/// The counters of a warm solve that converged in one Newton step.
-inline void count_warm_solve(SpheroidContactStats& stats) {
-  ++stats.calls;
-  ++stats.solves;
-  ++stats.warm_starts;
-  ++stats.iterations;
+/// The counters of `solved` warm solves that converged in one Newton step.
+inline void count_warm_solves(SpheroidContactStats& stats, std::uint64_t solved) {
+  stats.calls += solved;
+  stats.solves += solved;
+  stats.warm_starts += solved;
+  stats.iterations += solved;
 }
 
 /// Entry e without a contact: no force, moments or spring (its cache and
@@ -328,6 +328,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       for (int k = n; k < kLawLanes; ++k) g.warm.repeat(0, k);
       solve_spheroid_warm_lanes(g.warm, tolerance);
       g.take_warm_geometry();
+      std::uint64_t solved = 0;  // counted here, added once (stats is a capture: memory)
       for (int k = 0; k < n; ++k) {
         if (g.known[k] != 0.0) continue;
         const std::int32_t e = g.entry[k];
@@ -337,7 +338,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
             g.gap[k] = g.warm.gap[k];
             break;
           case WarmOutcome::Solved:
-            count_warm_solve(stats);
+            ++solved;
             g.contact[k] = g.warm.delta[k] > 0.0;
             g.gap[k] = -g.warm.delta[k];
             if (g.contact[k]) advance_cache(in.sph[e].cache, g.warm.normal(k));
@@ -352,6 +353,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
           }
         }
       }
+      count_warm_solves(stats, solved);
     }
     for (int k = n; k < kLawLanes; ++k) g.law.repeat(0, k);
     spheroid_contact_lanes<Viscous>(g.law, lgrad, law, dt, in.viscous_a);
@@ -361,6 +363,13 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       for (int k = 0; k < kLawLanes; ++k) half_overlap[k] = 0.5 * L.delta[k];
       stiffness.compute(L.dx, L.dy, L.dz, L.fx, L.fy, L.fz, half_overlap, law.tangential_ratio());
     }
+    // The lanes' stores and sums through local copies of the inputs, the
+    // sums and the count: through `in` and the lambda's captures they were
+    // loaded and stored again at every lane, since the store through
+    // in.active (a char) may alias anything that is not a local.
+    const PairInputs lane_in = in;
+    ChunkSums lane_sums = sums;
+    std::int64_t lane_contacts = contacts;
     for (int k = 0; k < n; ++k) {
       const std::int32_t e = g.entry[k], i = g.owner[k], j = g.partner[k];
       if (!g.contact[k]) {
@@ -370,28 +379,30 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       const Vec3 f{L.fx[k], L.fy[k], L.fz[k]};
       const Vec3 mj{L.mjx[k], L.mjy[k], L.mjz[k]};
       const Vec3 mi{L.mix[k], L.miy[k], L.miz[k]};
-      PairState& st = in.state[e];
+      PairState& st = lane_in.state[e];
       store(st.force, f);
       store(st.moment_axis, mj);  // here: the moment on j (see SpheroidPairState)
       st.half_overlap = 0.5 * L.delta[k];
-      store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
-      store(in.sph[e].torque_i, mi);
-      in.active[e] = 1;
-      if (in.force_out) {  // the gather's arithmetic, in the gather's order
-        in.force_out[i] -= f;
-        in.torque_out[i] += mi;
+      store(lane_in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
+      store(lane_in.sph[e].torque_i, mi);
+      lane_in.active[e] = 1;
+      if (lane_in.force_out) {  // the gather's arithmetic, in the gather's order
+        lane_in.force_out[i] -= f;
+        lane_in.torque_out[i] += mi;
         // a partner of another thread's run: completed after the pair
         // loops (SplitSums::edge_particles, edge_tails)
-        const bool home = in.home(j);
-        Vec3& fj = home ? in.force_out[j] : sink_f;
-        Vec3& tj = home ? in.torque_out[j] : sink_t;
+        const bool home = lane_in.home(j);
+        Vec3& fj = home ? lane_in.force_out[j] : sink_f;
+        Vec3& tj = home ? lane_in.torque_out[j] : sink_t;
         fj += f;
         tj += mj;
       }
-      sums.add<Measure, Viscous>(L, k, f, dt);
-      if constexpr (Measure) sums.add_stiffness(stiffness, k);
-      ++contacts;
+      lane_sums.add<Measure, Viscous>(L, k, f, dt);
+      if constexpr (Measure) lane_sums.add_stiffness(stiffness, k);
+      ++lane_contacts;
     }
+    sums = lane_sums;
+    contacts = lane_contacts;
     g.n = 0;
   };
   for (std::int32_t c = 0; c < nc; ++c) {
