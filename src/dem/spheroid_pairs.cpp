@@ -44,12 +44,9 @@ inline SpheroidPairState& clear_contact(const PairInputs& in, std::int32_t e) {
 /// inputs of each gathered into arrays, the contact law computed by one loop
 /// without jumps over the lanes (SIMD), the results then stored and summed
 /// one pair at a time in list order. Unused lanes of a partial group repeat
-/// its first lane. Sixteen lanes, two 8-double SIMD registers per field: the
-/// warm solve and the law are chains of dependent square roots and
-/// divisions, and two independent chains per group keep the core busy while
-/// each waits (0.946-0.952 of the cost of 8 lanes on one thread, 12 000
-/// spheroids, same bits; 24 lanes 0.950, 32 lanes 1.024: session 33).
-constexpr int kLawLanes = 16;
+/// its first lane. One lane per pair of the warm lanes, whose kLanes is the
+/// group size (spheroid_warm_lanes.h says why 16).
+constexpr int kLawLanes = SpheroidWarmLanes::kLanes;
 struct LawLanes {
   // inputs
   double dx[kLawLanes], dy[kLawLanes], dz[kLawLanes];  // branch d [m]
@@ -119,7 +116,6 @@ inline void spheroid_contact_lanes(LawLanes& L, const Mat3& lgrad, const HertzMi
 /// summed lane by lane, so in list order. A lane's results depend on its own
 /// inputs only, whichever group takes it.
 struct PairGroup {
-  static_assert(SpheroidWarmLanes::kLanes == kLawLanes, "one lane per pair in both");
   SpheroidWarmLanes warm{};
   LawLanes law{};
   double known[kLawLanes] = {};  ///< 1: geometry set when queued; 0: by the warm lanes
@@ -135,7 +131,7 @@ struct PairGroup {
   /// unused lanes repeat lane 0) into the warm lanes and the law's radii,
   /// in blocks of eight lanes (body_lanes, pair_body.h).
   void set_bodies(const PairBody* body) {
-    static_assert(kLawLanes % 8 == 0, "body_lanes fills blocks of eight lanes");
+    static_assert(kLawLanes % kBodyLanes == 0, "body_lanes fills blocks of kBodyLanes lanes");
     for (int k = n; k < kLawLanes; ++k) {
       owner[k] = owner[0];
       partner[k] = partner[0];
@@ -144,7 +140,7 @@ struct PairGroup {
                                              warm.eiz, warm.bound_i, law.ri,   minor_i};
     double* const of_j[PairBody::kFields] = {warm.bj2, warm.kj,      warm.ejx, warm.ejy,
                                              warm.ejz, warm.bound_j, law.rj,   minor_j};
-    for (int h = 0; h < kLawLanes; h += 8) {  // lanes [h, h + 8)
+    for (int h = 0; h < kLawLanes; h += kBodyLanes) {  // lanes [h, h + kBodyLanes)
       double* block_i[PairBody::kFields];
       double* block_j[PairBody::kFields];
       for (int f = 0; f < PairBody::kFields; ++f) {

@@ -43,13 +43,16 @@ static_assert(offsetof(PairBody, support) == 0 && offsetof(SpheroidSupport, b2) 
                   offsetof(ContactRadii, hertz) == 0 && offsetof(ContactRadii, minor) == 8,
               "the fields in body_lanes' order");
 
+/// The lanes body_lanes fills at a time.
+constexpr int kBodyLanes = 8;
+
 /// dst[f][k] = field f (in PairBody's order: b2, k, e.x, e.y, e.z, bound,
 /// hertz, minor) of body[idx[k]], for f and k in 0..7. Each dst[f] points
 /// to eight doubles.
 __attribute__((always_inline)) inline void body_lanes(const PairBody* body, const std::int32_t* idx,
                                                       double* const* dst) {
-  const double* rows[8];
-  for (int k = 0; k < 8; ++k) rows[k] = reinterpret_cast<const double*>(body + idx[k]);
+  const double* rows[kBodyLanes];
+  for (int k = 0; k < kBodyLanes; ++k) rows[k] = reinterpret_cast<const double*>(body + idx[k]);
   lanes::rows_to_lanes<PairBody::kFields>(rows, dst);
 }
 
