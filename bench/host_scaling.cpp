@@ -4,10 +4,15 @@
 //
 //   host_scaling [--rounds R] [--seconds S]
 //
-// Each round times six kernels, each as one thread alone on CPU 0, alone
+// Each round times seven kernels, each as one thread alone on CPU 0, alone
 // on CPU 1, then as two threads together (one pinned to each CPU, started
 // at one barrier), every thread doing the same fixed work:
-//   compute  16 independent multiply-add chains in registers (no memory);
+//   compute  16 independent multiply-add chains in registers (no memory):
+//            latency-bound, so two threads on one core's SMT siblings
+//            still run nearly as fast as alone;
+//   fma      128 chains: throughput-bound, the core's multiply-add units
+//            full, as in the DEM's 16-lane contact law, so two threads
+//            sharing one core run about half as fast each (S near 1);
 //   sync     the same work in slices of 300 us with a spinning barrier
 //            (PAUSE in its loop, as libgomp's) after each: two per step,
 //            as the DEM step at 12 000 spheres on two threads. Together,
@@ -46,7 +51,10 @@
 // of 102, syncblk 4 of 52 (and S below 1.6 in 3, 3 and 5); cache 1.03-2.59;
 // memory 0.94-2.14. So barrier-coupled work on two vCPUs here loses whole
 // windows to the host's placement of the two vCPUs, whatever the program
-// and the barrier; uncoupled work did not.
+// and the barrier; uncoupled work did not. Session 34 (fma added): S_fma
+// 1.85-2.03 in 50 rounds, also while two DEM threads at 12 000 spheres
+// dropped to 1.4x one (bench/results/2026-12-04-s34/experiments.txt): the
+// vCPUs did not share a core then.
 #include <pthread.h>
 #include <sched.h>
 
@@ -80,13 +88,19 @@ struct Sink {
   volatile double value = 0.0;
 };
 
-/// compute: 16 chains x = x m + c, `reps` times; returns their sum.
+/// compute (Chains = 16) and fma (Chains = 128): Chains chains
+/// x = x m + c, `reps` times; returns their sum. 16 chains are two SIMD
+/// registers of multiply-adds waiting on their own latency, so one core
+/// has room for a second such thread; 128 keep the core's multiply-add
+/// units busy, so two threads sharing one core (SMT siblings on the host)
+/// run half as fast each.
+template <int Chains>
 double compute_kernel(long reps) {
-  double x[16];
-  for (int k = 0; k < 16; ++k) x[k] = 1.0 + 1e-3 * k;
+  double x[Chains];
+  for (int k = 0; k < Chains; ++k) x[k] = 1.0 + 1e-3 * (k % 16);
   const double m = 0.999999, c = 1e-7;
   for (long r = 0; r < reps; ++r) {
-    for (int k = 0; k < 16; ++k) x[k] = x[k] * m + c;
+    for (int k = 0; k < Chains; ++k) x[k] = x[k] * m + c;
   }
   double s = 0.0;
   for (double v : x) s += v;
@@ -155,14 +169,16 @@ struct Kernel {
   const char* name;
   std::size_t doubles;
   Wait wait = Wait::None;
+  bool wide = false;  ///< the fma kernel's 128 chains instead of compute's 16
   long reps = 1;
   long slices = 1;
   double run(std::vector<double>& buf, SliceBarrier* barrier) const {
     if (doubles > 0) return stream_kernel(buf.data(), doubles, reps);
-    if (wait == Wait::None) return compute_kernel(reps);
+    if (wide) return compute_kernel<128>(reps);
+    if (wait == Wait::None) return compute_kernel<16>(reps);
     double s = 0.0;
     for (long k = 0; k < slices; ++k) {
-      s += compute_kernel(reps / slices);
+      s += compute_kernel<16>(reps / slices);
       if (barrier) barrier->wait();
     }
     return s;
@@ -240,6 +256,7 @@ int main(int argc, char** argv) {
   if (std::thread::hardware_concurrency() < 2) return usage("needs two CPUs");
 
   std::vector<Kernel> kernels{{"compute", 0},
+                              {"fma", 0, Wait::None, true},
                               {"sync", 0, Wait::Spin},
                               {"syncnp", 0, Wait::SpinNoPause},
                               {"syncblk", 0, Wait::Asleep},

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Two threads against one, beside what this host gives two threads of any
 # program (bench/host_scaling.cpp), in the same interleaved rounds: each
-# round runs host_scaling once (its six kernels, of which this prints
-# compute, sync, cache and memory: S = (t_solo0 + t_solo1) / max(t_0, t_1)),
+# round runs host_scaling once (its seven kernels, of which this prints
+# compute, fma, sync, cache and memory: S = (t_solo0 + t_solo1) / max(t_0, t_1)),
 # then triax_bench on one thread and on two on
 # the tiled sample. Prints per round the host's S of each kernel, the
 # steal share, ours (one-thread / two-thread cost) and ours / S_sync, then
@@ -27,21 +27,21 @@ cost() {
     awk '/^us_per_particle_step:/ { print $2 }'
 }
 echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, slab-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' round S_compute S_sync S_cache S_memory steal% one_us two_us ours ours/S_s
-sc=(); sy=(); sa=(); sm=(); ou=(); rel=()
+printf '%-6s %9s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' round S_compute S_fma S_sync S_cache S_memory steal% one_us two_us ours ours/S_s
+sc=(); sf=(); sy=(); sa=(); sm=(); ou=(); rel=()
 for ((r = 1; r <= R; ++r)); do
   host="$("${HOST}" --rounds 1 --seconds 0.1)"
   s_of() { awk -v k="$1" '$2 == k { print $(NF - 1) }' <<<"${host}"; }
   # the kernels' steal shares (-1: unreadable, left out)
   steal="$(awk '$1 ~ /^[0-9]+$/ && $NF >= 0 { s += $NF; n++ } END { if (n) printf "%.2f", s / n; else print "-" }' <<<"${host}")"
-  c="$(s_of compute)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
+  c="$(s_of compute)"; f="$(s_of fma)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
   one="$(cost 1)"; two="$(cost 2)"
   [[ -n "${one}" && -n "${two}" && -n "${y}" ]] || { echo "two_thread_ceiling: a run failed" >&2; exit 1; }
   ours="$(awk -v a="${one}" -v b="${two}" 'BEGIN { printf "%.3f", a / b }')"
   ratio="$(awk -v o="${ours}" -v s="${y}" 'BEGIN { printf "%.3f", o / s }')"
-  printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' "${r}" "${c}" "${y}" "${a}" "${m}" "${steal}" "${one}" "${two}" \
+  printf '%-6s %9s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' "${r}" "${c}" "${f}" "${y}" "${a}" "${m}" "${steal}" "${one}" "${two}" \
     "${ours}" "${ratio}"
-  sc+=("${c}"); sy+=("${y}"); sa+=("${a}"); sm+=("${m}"); ou+=("${ours}"); rel+=("${ratio}")
+  sc+=("${c}"); sf+=("${f}"); sy+=("${y}"); sa+=("${a}"); sm+=("${m}"); ou+=("${ours}"); rel+=("${ratio}")
 done
-printf '%-6s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' median "$(median_of "${sc[@]}")" "$(median_of "${sy[@]}")" \
-  "$(median_of "${sa[@]}")" "$(median_of "${sm[@]}")" "" "" "" "$(median_of "${ou[@]}")" "$(median_of "${rel[@]}")"
+printf '%-6s %9s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' median "$(median_of "${sc[@]}")" "$(median_of "${sf[@]}")" \
+  "$(median_of "${sy[@]}")" "$(median_of "${sa[@]}")" "$(median_of "${sm[@]}")" "" "" "" "$(median_of "${ou[@]}")" "$(median_of "${rel[@]}")"
