@@ -36,7 +36,7 @@ for ((r = 1; r <= R; ++r)); do
   steal="$(awk '$1 ~ /^[0-9]+$/ && $NF >= 0 { s += $NF; n++ } END { if (n) printf "%.2f", s / n; else print "-" }' <<<"${host}")"
   c="$(s_of compute)"; f="$(s_of fma)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
   one="$(cost 1)"; two="$(cost 2)"
-  [[ -n "${one}" && -n "${two}" && -n "${y}" ]] || { echo "two_thread_ceiling: a run failed" >&2; exit 1; }
+  [[ -n "${one}" && -n "${two}" && -n "${y}" && -n "${f}" ]] || { echo "two_thread_ceiling: a run failed" >&2; exit 1; }
   ours="$(awk -v a="${one}" -v b="${two}" 'BEGIN { printf "%.3f", a / b }')"
   ratio="$(awk -v o="${ours}" -v s="${y}" 'BEGIN { printf "%.3f", o / s }')"
   printf '%-6s %9s %9s %9s %9s %9s %7s %9s %9s %7s %9s\n' "${r}" "${c}" "${f}" "${y}" "${a}" "${m}" "${steal}" "${one}" "${two}" \
