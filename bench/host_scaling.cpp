@@ -283,18 +283,18 @@ int main(int argc, char** argv) {
   // The kernels that wait: compute's work in slices of about kSliceSeconds
   // (a slice runs slower than its share of one call, so the count comes
   // from a timing of the sliced work; alone, no barrier is waited at).
-  // (kernels[0] is compute: the sliced kernels take its work)
-  if (std::string(kernels[0].name) != "compute" || kernels[0].chains != 16)
-    return usage("internal: kernels[0] must be compute");
-  Kernel sliced = kernels[0];
-  sliced.wait = Wait::Spin;
+  const long compute_reps =
+      std::find_if(kernels.begin(), kernels.end(), [](const Kernel& k) { return std::strcmp(k.name, "compute") == 0; })
+          ->reps;
+  Kernel sliced = {"sliced", 0, Wait::Spin};
+  sliced.reps = compute_reps;
   sliced.slices = std::max(1L, static_cast<long>(seconds / kSliceSeconds));
   sliced.reps -= sliced.reps % sliced.slices;
   const long slices = std::max(1L, static_cast<long>(solo(sliced, 0, buf0, sink) / kSliceSeconds));
   for (Kernel& k : kernels) {
     if (k.wait == Wait::None) continue;
     k.slices = slices;
-    k.reps = kernels[0].reps - kernels[0].reps % slices;
+    k.reps = compute_reps - compute_reps % slices;
   }
 
   std::printf("# host_scaling: %d rounds; S = (t_solo0 + t_solo1) / max(t_0, t_1) (2: two CPUs as fast together "
