@@ -3,6 +3,8 @@
 // >= 1.8x one" is read (bench/two_thread_ceiling.sh runs it beside ours).
 //
 //   host_scaling [--rounds R] [--seconds S]
+//   host_scaling --pingpong [--rounds R]     (the round trip alone, ~50 ms
+//                                             a round: beside another run)
 //
 // Each round times seven kernels, each as one thread alone on CPU 0, alone
 // on CPU 1, then as two threads together (one pinned to each CPU, started
@@ -29,6 +31,9 @@
 //            together 12 MiB: in the shared 32 MiB L3, not in a 1 MiB L2,
 //            like the 12 000-sphere step's data);
 //   memory   the same over 96 MiB per thread (main memory).
+// and, after them, pingpong: the round trip of one cache line between a
+// thread on CPU 0 and one on CPU 1 [ns] (round_trip_ns below), the latency
+// every line shared by two DEM threads pays when it changes hands.
 // For a kernel, with t_solo0, t_solo1 the solo times and t_0, t_1 the
 // two threads' times together, the host's speed-up of a job split evenly
 // over two threads is
@@ -39,7 +44,8 @@
 // of the kernel's time the hypervisor took from this VM (steal, /proc/stat:
 // vt::dem::steal_share; -1 when unreadable).
 //
-// Output: one line per round and kernel, then the medians of S per kernel.
+// Output: one line per round and kernel and the round's pingpong line, then
+// the medians of S per kernel and of the round trip.
 // The work per kernel is sized once, so a solo compute, fma, cache or memory
 // run takes about S seconds (default 0.15; the sync kernels about twice that, in
 // slices of 300 us).
@@ -57,7 +63,10 @@
 // and the barrier; uncoupled work did not. Session 34 (fma added): S_fma
 // 1.85-2.03 in 50 rounds, also while two DEM threads at 12 000 spheres
 // dropped to 1.4x one (bench/results/2026-12-04-s34/experiments.txt): the
-// vCPUs did not share a core then.
+// vCPUs did not share a core then. Session 35 (pingpong added): the round
+// trip reads about 100-125 ns in most windows and 480-515 ns in others
+// (the host's placement of the two vCPUs); the DEM's two-thread drops come
+// with the second kind (bench/results/2026-12-04-s35/experiments.txt).
 #include <pthread.h>
 #include <sched.h>
 
@@ -85,6 +94,9 @@ using vt::bench::seconds_since;
 /// The sync kernel's slice between barriers [s]: two barriers in a
 /// 600 us step, as two threads take 12 000 spheres.
 constexpr double kSliceSeconds = 300e-6;
+/// pingpong: bursts of round trips per round (about 10-50 ms in all here).
+constexpr long kRoundTrips = 20000;
+constexpr int kRoundTripBursts = 5;
 
 /// Volatile sink so the kernels' results are used.
 struct Sink {
@@ -223,6 +235,62 @@ void together(const Kernel& k, std::vector<double>& buf0, std::vector<double>& b
   sink.value = sink.value + r0 + r1;
 }
 
+/// The round trip of one cache line between a thread pinned to CPU 0 and
+/// one pinned to CPU 1 [ns]: CPU 0 stores k into `ping`, CPU 1 spins until
+/// it reads k and stores k into `pong`, CPU 0 spins until it reads that
+/// (no PAUSE in the spins, which would add its own latency); the median
+/// over `bursts` bursts of `trips` round trips, each burst timed on CPU 0.
+/// Two threads of the DEM step move the lines of the particles at their
+/// cut between the two cores' caches every step; a move costs about half a
+/// round trip when nothing overlaps it. Negative when a CPU cannot be used.
+double round_trip_ns(long trips, int bursts) {
+  struct alignas(128) Line {  // 128: not even in the adjacent-line prefetcher's pair
+    std::atomic<long> value{0};
+  };
+  Line ping, pong;
+  std::atomic<bool> partner_pinned{false};
+  const long total = trips * bursts;
+  pthread_barrier_t start;
+  pthread_barrier_init(&start, nullptr, 2);
+  std::thread partner([&] {
+    partner_pinned.store(pin_to(1));
+    pthread_barrier_wait(&start);
+    if (!partner_pinned.load()) return;
+    for (long k = 1; k <= total; ++k) {
+      long v;
+      while ((v = ping.value.load(std::memory_order_acquire)) != k && v >= 0) {
+      }
+      if (v < 0) return;  // CPU 0 could not be used: stop
+      pong.value.store(k, std::memory_order_release);
+    }
+  });
+  const bool pinned = pin_to(0);
+  pthread_barrier_wait(&start);
+  std::vector<double> burst_ns;
+  if (pinned && partner_pinned.load()) {
+    long k = 0;
+    for (int b = 0; b < bursts; ++b) {
+      const auto t0 = Clock::now();
+      for (long i = 0; i < trips; ++i) {
+        ping.value.store(++k, std::memory_order_release);
+        while (pong.value.load(std::memory_order_acquire) != k) {
+        }
+      }
+      burst_ns.push_back(1e9 * seconds_since(t0) / static_cast<double>(trips));
+    }
+  } else {
+    ping.value.store(-1, std::memory_order_release);
+  }
+  partner.join();
+  pthread_barrier_destroy(&start);
+  return burst_ns.empty() ? -1.0 : vt::bench::quantile(burst_ns, 0.5);
+}
+
+void print_round_trip(int round, double ns) {
+  std::printf("%-6d %-8s %8.1f ns round trip of a cache line between CPUs 0 and 1\n", round, "pingpong", ns);
+  std::fflush(stdout);
+}
+
 std::string read_stat_cpu_line() {
   std::ifstream f("/proc/stat");
   std::string line;
@@ -231,7 +299,8 @@ std::string read_stat_cpu_line() {
 }
 
 int usage(const char* why) {
-  std::fprintf(stderr, "host_scaling: %s\nusage: host_scaling [--rounds R] [--seconds S]\n", why);
+  std::fprintf(stderr, "host_scaling: %s\nusage: host_scaling [--rounds R] [--seconds S] | --pingpong [--rounds R]\n",
+               why);
   return 2;
 }
 
@@ -240,9 +309,12 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
   int rounds = 10;
   double seconds = 0.15;
+  bool pingpong_only = false;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
-    if ((arg == "--rounds" || arg == "--seconds") && a + 1 < argc) {
+    if (arg == "--pingpong") {
+      pingpong_only = true;
+    } else if ((arg == "--rounds" || arg == "--seconds") && a + 1 < argc) {
       char* end = nullptr;
       const double v = std::strtod(argv[++a], &end);
       if (*end != '\0' || !(v > 0.0)) return usage((arg + " must be a positive number").c_str());
@@ -257,6 +329,17 @@ int main(int argc, char** argv) {
     }
   }
   if (std::thread::hardware_concurrency() < 2) return usage("needs two CPUs");
+  if (pingpong_only) {
+    std::vector<double> round_trips;
+    for (int r = 1; r <= rounds; ++r) {
+      const double rt = round_trip_ns(kRoundTrips, kRoundTripBursts);
+      if (rt < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+      round_trips.push_back(rt);
+      print_round_trip(r, rt);
+    }
+    std::printf("median_round_trip_ns: %.1f\n", vt::bench::quantile(round_trips, 0.5));
+    return 0;
+  }
 
   std::vector<Kernel> kernels{{"compute", 0},
                               {"fma", 0, Wait::None, 128},
@@ -303,6 +386,7 @@ int main(int argc, char** argv) {
   std::printf("%-6s %-8s %8s %8s %8s %8s %8s %6s %7s\n", "round", "kernel", "solo0_s", "solo1_s", "tog0_s",
               "tog1_s", "slow0/1", "S", "steal%");
   std::vector<std::vector<double>> s_of(kernels.size());
+  std::vector<double> round_trips;
   for (int r = 1; r <= rounds; ++r) {
     for (std::size_t ki = 0; ki < kernels.size(); ++ki) {
       const Kernel& k = kernels[ki];
@@ -318,9 +402,13 @@ int main(int argc, char** argv) {
       std::printf("%-6d %-8s %8.4f %8.4f %8.4f %8.4f %4.2f/%4.2f %6.3f %7.2f\n", r, k.name, s0, s1, t0, t1, t0 / s0,
                   t1 / s1, scaling, steal ? 100.0 * *steal : -1.0);
     }
-    std::fflush(stdout);
+    const double rt = round_trip_ns(kRoundTrips, kRoundTripBursts);
+    if (rt < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+    round_trips.push_back(rt);
+    print_round_trip(r, rt);
   }
   for (std::size_t ki = 0; ki < kernels.size(); ++ki)
     std::printf("median_S_%s: %.3f\n", kernels[ki].name, vt::bench::quantile(s_of[ki], 0.5));
+  std::printf("median_round_trip_ns: %.1f\n", vt::bench::quantile(round_trips, 0.5));
   return sink.value == 12345.678 ? 1 : 0;
 }

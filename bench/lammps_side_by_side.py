@@ -34,8 +34,13 @@ wall time (proc_s: start-up, reading the sample, the run, writing the
 results; what a user waits for), cost per particle-step (from the first), q/p averaged over eps_a in [0.8, 1.0] x strain, eps_v at the
 end; the load average beside each round; then, per code, the median over
 rounds of each round's wall time on the fewest threads over that on each
-other thread count (the speed-up; runs of one round are interleaved). Data in
-OUT/side_by_side.json.
+other thread count (the speed-up; runs of one round are interleaved). Then
+per case with more than one thread, by round: the round trip of a cache line
+between CPUs 0 and 1 before and after the run (host_scaling --pingpong, ns;
+about 100-135 or 470-530 on this VM, the host's two placements of the
+vCPUs: session 35) and, for ours, the steps the thread governor ran on one
+thread; and the median wall time over the rounds whose two round trips were
+both below 250 ns ("near"). Data in OUT/side_by_side.json.
 """
 import argparse
 import json
@@ -59,6 +64,26 @@ BIN = os.environ.get("VT_BIN", os.path.join(ROOT, "build/devel/lib/virtual_triax
 def load() -> str:
     with open("/proc/loadavg") as f:
         return f.read().split()[0]
+
+
+RT_SLOW_NS = 250.0  # a round trip at or above: the vCPUs placed far apart (session 35)
+
+
+def round_trip_ns():
+    """The round trip of a cache line between CPUs 0 and 1 now [ns]; None
+    without host_scaling or two CPUs."""
+    exe = os.path.join(BIN, "host_scaling")
+    if not os.access(exe, os.X_OK):
+        return None
+    p = subprocess.run([exe, "--pingpong", "--rounds", "1"], capture_output=True, text=True)
+    m = re.search(r"^1\s+pingpong\s+([0-9.]+)", p.stdout, re.M)
+    return float(m.group(1)) if p.returncode == 0 and m else None
+
+
+def governor_steps_one(stderr):
+    """Steps triax_run's thread governor ran on one thread (None: no governor line)."""
+    m = re.search(r"threads chosen at run time: (\d+) steps on 1, (\d+) on (\d+)", stderr)
+    return int(m.group(1)) if m else None
 
 
 def sample_facts(path):
@@ -212,29 +237,35 @@ def main():
             env = dict(os.environ, OMP_NUM_THREADS="1")
             cmd = ([a.lmp] if t == "1" else ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", t, a.lmp])
             ld = load()
+            rt_before = round_trip_ns() if t != "1" else None
             t_proc = time.perf_counter()
             p = subprocess.run(cmd + ["-in", "in.triax", "-log", "none", "-screen", "lammps.out"], cwd=out, env=env,
                                capture_output=True, text=True)
             t_proc = time.perf_counter() - t_proc
+            rt_after = round_trip_ns() if t != "1" else None
             with open(os.path.join(out, "lammps.out")) as f:
                 log = f.read()
             if p.returncode != 0 or "Loop time" not in log:
                 sys.exit(f"lammps_side_by_side: lmp failed (see {out}/lammps.out): {p.stderr[-500:]}")
             r = parse_lammps(log, s["n"])
             r["dt_t0"], r["load"], r["proc"] = a.lammps_ct, ld, t_proc
+            r["rt"], r["steps_one"] = (rt_before, rt_after), None
             cases.setdefault(("LAMMPS", t), []).append(r)
             for c in a.ours.split():
                 env = dict(os.environ, OMP_NUM_THREADS=t)
                 res = os.path.join(out, f"ours_{c}.h5")
                 ld = load()
+                rt_before = round_trip_ns() if t != "1" else None
                 t_proc = time.perf_counter()
                 p = subprocess.run([os.path.join(BIN, "triax_run"), os.path.join(out, f"ours_{c}.yaml"), "--out", res,
                                     "--quiet"], env=env, capture_output=True, text=True)
                 t_proc = time.perf_counter() - t_proc
+                rt_after = round_trip_ns() if t != "1" else None
                 if p.returncode != 0:
                     sys.exit(f"lammps_side_by_side: triax_run failed: {p.stderr[-500:]}")
                 r = parse_ours(p.stdout.strip().splitlines()[-1], res, s["n"])
                 r["load"], r["proc"] = ld, t_proc
+                r["rt"], r["steps_one"] = (rt_before, rt_after), governor_steps_one(p.stderr)
                 cases.setdefault((f"ours {c}", t), []).append(r)
         print(f"# round {rnd + 1}/{a.rounds} done, load {load()}", flush=True)
     print(f"{'code':<16} {'T':>2} {'dt/T0':>7} {'steps':>7} {'wall_s':>8} {'proc_s':>7} {'us/p-step':>10} "
@@ -245,10 +276,19 @@ def main():
         qp, ev, lat = window(rs[0], a.strain)
         row = {"code": code, "threads": int(t), "dt_t0": med("dt_t0"), "steps": med("steps"), "wall_s": med("wall"), "process_s": med("proc"),
                "us_per_particle_step": med("us"), "qp_window": qp, "eps_v_end": ev, "sigma_lat_window_pa": lat, "phi_peak_deg": rs[0]["phi_peak"],
-               "loads": [r["load"] for r in rs], "walls": [r["wall"] for r in rs]}
+               "loads": [r["load"] for r in rs], "walls": [r["wall"] for r in rs],
+               "round_trips_ns": [list(r["rt"]) for r in rs], "governor_steps_one": [r["steps_one"] for r in rs]}
         table.append(row)
         print(f"{code:<16} {t:>2} {row['dt_t0']:7.3f} {row['steps']:7.0f} {row['wall_s']:8.2f} {row['process_s']:7.2f} "
               f"{row['us_per_particle_step']:10.4f} {qp:11.4f} {ev:10.5f} {rs[0]['phi_peak']:6.2f} {lat / 1e3:7.1f} {' '.join(row['loads'])}")
+    for (code, t), rs in cases.items():
+        if t == "1" or any(x is None for r in rs for x in r["rt"]):
+            continue
+        near = [r["wall"] for r in rs if max(r["rt"]) < RT_SLOW_NS]
+        rts = " ".join(f"{r['rt'][0]:.0f}/{r['rt'][1]:.0f}" for r in rs)
+        gov = "" if rs[0]["steps_one"] is None else "; steps on one thread " + " ".join(str(r["steps_one"]) for r in rs)
+        near_s = f"{statistics.median(near):.2f} s over {len(near)} rounds" if near else "no such round"
+        print(f"{code:<16} {t:>2} round trips before/after [ns] {rts}{gov}; wall near: {near_s}")
     speedups = []
     fewest = min(a.threads.split(), key=int)
     for (code, t), rs in cases.items():

@@ -23,6 +23,13 @@
 # median all the CPUs' rounds); unset: unpinned, where the kernel may move
 # the thread between vCPUs that at times differ by 1.3-1.5x in speed
 # (bench/core_speeds.sh).
+# The cases on two threads (two / one, x_N1 two, spheroid / sphere two) run
+# between two readings of the round trip of a cache line between the two
+# CPUs (host_scaling --pingpong, printed as [before/after] ns; skipped when
+# host_scaling is not built): about 100-135 ns with the host's vCPUs near
+# each other, 470-530 ns far apart, where two threads lose (session 35).
+# After the medians over all rounds, each such case's median over the
+# rounds with both readings below RT_SLOW ns (default 250), "near".
 # STEPS: steps of each side at 12 000 and of x_N1 (default 1000, as the
 # matrix), in turns of BLOCK steps (default 200); STEPS_1E5: of two / one
 # thread at 10^5 (default 600), in turns of BLOCK_1E5 (default 100). Short
@@ -44,6 +51,11 @@ for v in STEPS STEPS_1E5 BLOCK BLOCK_1E5; do
   [[ "${!v}" =~ ^[1-9][0-9]*$ ]] || { echo "paired_targets: ${v} must be a whole number >= 1, not '${!v}'" >&2; exit 2; }
 done
 [[ -x "${BIN}" ]] || { echo "paired_targets: ${BIN} not built" >&2; exit 2; }
+HOST="${HOST:-$(dirname "${BIN}")/host_scaling}"
+RT_SLOW="${RT_SLOW:-250}"
+[[ "${RT_SLOW}" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "paired_targets: RT_SLOW must be a number of ns, not '${RT_SLOW}'" >&2; exit 2; }
+# the round trip now [ns], or nothing without host_scaling
+round_trip() { [[ -x "${HOST}" ]] && "${HOST}" --pingpong --rounds 1 | awk '$2 == "pingpong" { print $3 }'; }
 SPH=config/samples/dense_1000.h5
 SPD=config/samples/dense_1000_spheroid.h5
 PIN_ONE="${PIN_ONE:-}"
@@ -68,21 +80,30 @@ add_case "spheroid/sphere two" "--tile 3x2x2 --threads 2 --pair-tile 3x2x2 --pai
 pinning="unpinned"
 [[ -n "${PIN_ONE}" ]] && pinning="pinned to CPUs ${PIN_ONE}"
 echo "# $(date -u '+%F %H:%M UTC'), ${R} rounds, turns of ${BLOCK} steps (two / one at 10^5: ${BLOCK_1E5}), one-thread cases ${pinning}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
-declare -A med pool
+declare -A med pool near
 for ((r = 1; r <= R; ++r)); do
   line="round ${r}:"
   for k in "${!cases[@]}"; do
     run=("${BIN}")
     [[ -n "${pins[k]}" ]] && run=(taskset -c "${pins[k]}" "${BIN}")
+    two=0
+    [[ "${args[k]}" == *"--alternate 1,2"* || "${args[k]}" == *"--threads 2"* ]] && two=1
+    rb=""; ra=""
+    ((two)) && rb="$(round_trip || true)"
     # shellcheck disable=SC2086
     out="$("${run[@]}" --sample "${SPH}" --sort-sample --block "${BLOCK}" ${args[k]} 2>/dev/null)" ||
       { echo "paired_targets: triax_bench failed on '${cases[k]}'" >&2; exit 1; }
+    ((two)) && ra="$(round_trip || true)"
     v="$(awk '/^(alternate_speedup|pair_cost_ratio):/ { printf "%s %s %s", $2, $10, $11 }' <<<"${out}" | tr -d ')')"
     read -r m q1 q3 <<<"${v}"
     [[ -n "${m}" ]] || { echo "paired_targets: no ratio from '${cases[k]}'" >&2; exit 1; }
     med[${k}]+="${m} "
     [[ -n "${pooled[k]}" ]] && pool[${pooled[k]}]+="${m} "
     line+="  ${cases[k]} ${m} (${q1}-${q3})"
+    if [[ -n "${rb}" && -n "${ra}" ]]; then
+      line+=" [${rb%.*}/${ra%.*}]"
+      awk -v b="${rb}" -v a="${ra}" -v t="${RT_SLOW}" 'BEGIN { exit !(b < t && a < t) }' && near[${k}]+="${m} "
+    fi
   done
   echo "${line}"
 done
@@ -101,3 +122,12 @@ for k in "${!cases[@]}"; do
     printf '  %-32s %s\n' "${name}, every CPU" "$(median_of ${pool[${name}]})"
   fi
 done
+# the two-thread cases over the rounds with the vCPUs near
+if [[ -x "${HOST}" ]]; then
+  echo "medians over the rounds with both round trips below ${RT_SLOW} ns:"
+  for k in "${!cases[@]}"; do
+    [[ "${args[k]}" == *"--alternate 1,2"* || "${args[k]}" == *"--threads 2"* ]] || continue
+    # shellcheck disable=SC2086
+    printf '  %-32s %s (%s rounds)\n' "${cases[k]}" "$(median_of ${near[${k}]:-})" "$(wc -w <<<"${near[${k}]:-}")"
+  done
+fi

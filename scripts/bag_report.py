@@ -4,7 +4,9 @@
 usage: bag_report.py BAG [BAG ...] --out DIR [--csv-only] [--ns NS] [--axis z]
 
 Reads the rig topics of one or more bags (the files of a split recording may
-be given in any order: they are read in time order), found by MESSAGE TYPE,
+be given in any order: they are read in time order, the files of a resumed
+test, PREFIX_rN_K.bag as run_triaxial.sh names them, after those of the run
+it resumes), found by MESSAGE TYPE,
 so namespaced rigs work (/rig1/stress ...):
   virtual_triaxial/Stress, Strain, MomentIndex, KineticEnergy, Fabric,
   ServoState, ProtocolStatus (each optional, at least one required).
@@ -35,6 +37,7 @@ import argparse
 import csv
 import math
 import os
+import re
 import sys
 
 PROG = "bag_report"
@@ -175,15 +178,27 @@ def open_bags(paths):
             bags.append((p, rosbag.Bag(p, "r")))
         except Exception as e:  # ROSBagException, ROSBagFormatException, OSError, ...
             raise ReportError("%s: not a readable bag (%s)" % (p, e))
-    # Split recordings: order the files by their first message (empty ones last).
-
-    def start(pb):
-        try:
-            return pb[1].get_start_time()
-        except Exception:
-            return math.inf
-    bags.sort(key=start)
+    bags.sort(key=lambda pb: (resume_number(pb[0]), bag_start(pb[1])))
     return bags
+
+
+def resume_number(path):
+    """N of a resumed test's file PREFIX_rN_K.bag (run_triaxial.sh), 0 for
+    any other name: a resumed run's files come after the run it resumes,
+    whose ticks they run again. Their first message does not say so: the
+    resumed recorder may take its node's latched idle status before the first
+    /clock, at time 0 (session 35: unit_rig_resume then lost tick 1's status)."""
+    m = re.search(r"_r(\d+)_\d+\.bag$", os.path.basename(path))
+    return int(m.group(1)) if m else 0
+
+
+def bag_start(bag):
+    """A file's first message time (split recordings are read in that order;
+    empty files last)."""
+    try:
+        return bag.get_start_time()
+    except Exception:
+        return math.inf
 
 
 def _namespace(topic):

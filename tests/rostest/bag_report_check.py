@@ -180,7 +180,11 @@ def write_bag(path, ticks, resumed=False, verdict=None):
                     bag.write(topic, msg, t=stamp)
             sent = status_messages(k, resumed) + ([verdict] if verdict is not None and k == ticks[-1] else [])
             for n, msg in enumerate(sent):  # after the tick's state, in order
-                bag.write("/rig1/protocol_status", msg, t=stamp + rospy.Duration(0, 1000 * (n + 1)))
+                # a resumed rig's recorder may take its node's latched idle
+                # status before the first /clock, at time 0: that file then
+                # starts before the killed run's (session 35's unit_rig_resume)
+                t = rospy.Time(0) if resumed and msg.state == "idle" else stamp + rospy.Duration(0, 1000 * (n + 1))
+                bag.write("/rig1/protocol_status", msg, t=t)
 
 
 def run_tool(*args):
