@@ -3,8 +3,8 @@
 // >= 1.8x one" is read (bench/two_thread_ceiling.sh runs it beside ours).
 //
 //   host_scaling [--rounds R] [--seconds S]
-//   host_scaling --pingpong [--rounds R]     (the round trip alone, ~50 ms
-//                                             a round: beside another run)
+//   host_scaling --pingpong [--rounds R]     (the round trip alone, 13-50
+//                                             ms a round: beside another run)
 //
 // Each round times seven kernels, each as one thread alone on CPU 0, alone
 // on CPU 1, then as two threads together (one pinned to each CPU, started
@@ -64,7 +64,7 @@
 // 1.85-2.03 in 50 rounds, also while two DEM threads at 12 000 spheres
 // dropped to 1.4x one (bench/results/2026-12-04-s34/experiments.txt): the
 // vCPUs did not share a core then. Session 35 (pingpong added): the round
-// trip reads about 100-125 ns in most windows and 480-515 ns in others
+// trip reads about 95-145 ns in most windows and 465-535 ns in others
 // (the host's placement of the two vCPUs); the DEM's two-thread drops come
 // with the second kind (bench/results/2026-12-04-s35/experiments.txt).
 #include <pthread.h>
@@ -94,7 +94,7 @@ using vt::bench::seconds_since;
 /// The sync kernel's slice between barriers [s]: two barriers in a
 /// 600 us step, as two threads take 12 000 spheres.
 constexpr double kSliceSeconds = 300e-6;
-/// pingpong: bursts of round trips per round (about 10-50 ms in all here).
+/// pingpong: bursts of round trips per round (13-50 ms in all here).
 constexpr long kRoundTrips = 20000;
 constexpr int kRoundTripBursts = 5;
 
@@ -264,10 +264,14 @@ double round_trip_ns(long trips, int bursts) {
       pong.value.store(k, std::memory_order_release);
     }
   });
-  const bool pinned = pin_to(0);
-  pthread_barrier_wait(&start);
   std::vector<double> burst_ns;
-  if (pinned && partner_pinned.load()) {
+  std::thread timer([&] {  // a thread of its own: the caller keeps its affinity
+    const bool pinned = pin_to(0);
+    pthread_barrier_wait(&start);
+    if (!(pinned && partner_pinned.load())) {
+      ping.value.store(-1, std::memory_order_release);
+      return;
+    }
     long k = 0;
     for (int b = 0; b < bursts; ++b) {
       const auto t0 = Clock::now();
@@ -278,10 +282,9 @@ double round_trip_ns(long trips, int bursts) {
       }
       burst_ns.push_back(1e9 * seconds_since(t0) / static_cast<double>(trips));
     }
-  } else {
-    ping.value.store(-1, std::memory_order_release);
-  }
+  });
   partner.join();
+  timer.join();
   pthread_barrier_destroy(&start);
   return burst_ns.empty() ? -1.0 : vt::bench::quantile(burst_ns, 0.5);
 }
@@ -296,6 +299,12 @@ std::string read_stat_cpu_line() {
   std::string line;
   std::getline(f, line);
   return line;
+}
+
+/// A failure at run time (not the arguments'): the reason alone, exit status 1.
+int failure(const char* why) {
+  std::fprintf(stderr, "host_scaling: %s\n", why);
+  return 1;
 }
 
 int usage(const char* why) {
@@ -333,7 +342,7 @@ int main(int argc, char** argv) {
     std::vector<double> round_trips;
     for (int r = 1; r <= rounds; ++r) {
       const double rt = round_trip_ns(kRoundTrips, kRoundTripBursts);
-      if (rt < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+      if (rt < 0.0) return failure("cannot run on CPUs 0 and 1 (taskset?)");
       round_trips.push_back(rt);
       print_round_trip(r, rt);
     }
@@ -355,7 +364,7 @@ int main(int argc, char** argv) {
     if (k.wait != Wait::None) continue;
     for (;;) {
       const double t = solo(k, 0, buf0, sink);
-      if (t < 0.0) return usage("cannot run on CPU 0 (taskset?)");
+      if (t < 0.0) return failure("cannot run on CPU 0 (taskset?)");
       if (t >= 0.02) {
         k.reps = std::max<long>(1, static_cast<long>(k.reps * seconds / t));
         break;
@@ -393,7 +402,7 @@ int main(int argc, char** argv) {
       const std::string stat0 = read_stat_cpu_line();
       const double s0 = solo(k, 0, buf0, sink);
       const double s1 = solo(k, 1, buf1, sink);
-      if (s0 < 0.0 || s1 < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+      if (s0 < 0.0 || s1 < 0.0) return failure("cannot run on CPUs 0 and 1 (taskset?)");
       double t0 = 0.0, t1 = 0.0;
       together(k, buf0, buf1, sink, t0, t1);
       const std::optional<double> steal = vt::dem::steal_share(stat0, read_stat_cpu_line());
@@ -403,7 +412,7 @@ int main(int argc, char** argv) {
                   t1 / s1, scaling, steal ? 100.0 * *steal : -1.0);
     }
     const double rt = round_trip_ns(kRoundTrips, kRoundTripBursts);
-    if (rt < 0.0) return usage("cannot run on CPUs 0 and 1 (taskset?)");
+    if (rt < 0.0) return failure("cannot run on CPUs 0 and 1 (taskset?)");
     round_trips.push_back(rt);
     print_round_trip(r, rt);
   }

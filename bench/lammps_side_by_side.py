@@ -37,10 +37,11 @@ rounds of each round's wall time on the fewest threads over that on each
 other thread count (the speed-up; runs of one round are interleaved). Then
 per case with more than one thread, by round: the round trip of a cache line
 between CPUs 0 and 1 before and after the run (host_scaling --pingpong, ns;
-about 100-135 or 470-530 on this VM, the host's two placements of the
+about 95-145 or 465-535 on this VM, the host's two placements of the
 vCPUs: session 35) and, for ours, the steps the thread governor ran on one
 thread; and the median wall time over the rounds whose two round trips were
-both below 250 ns ("near"). Data in OUT/side_by_side.json.
+both below RT_SLOW ns (environment, default 250, as bench/round_trip.sh;
+"near"). Data in OUT/side_by_side.json.
 """
 import argparse
 import json
@@ -66,7 +67,17 @@ def load() -> str:
         return f.read().split()[0]
 
 
-RT_SLOW_NS = 250.0  # a round trip at or above: the vCPUs placed far apart (session 35)
+def rt_slow_ns():
+    """RT_SLOW [ns] (default 250): a round trip at or above it means the vCPUs
+    placed far apart (session 35)."""
+    v = os.environ.get("RT_SLOW", "250")
+    try:
+        x = float(v)
+    except ValueError:
+        x = -1.0
+    if not (x > 0.0 and math.isfinite(x)):
+        sys.exit(f"lammps_side_by_side: RT_SLOW must be a number of ns, not '{v}'")
+    return x
 
 
 def round_trip_ns():
@@ -201,6 +212,7 @@ def main():
     ap.add_argument("--lmp", default="lmp")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
+    rt_slow = rt_slow_ns()
     if not shutil.which(a.lmp):
         sys.exit(f"lammps_side_by_side: '{a.lmp}' not found: install Debian's LAMMPS (apt-get install lammps "
                  "openmpi-bin) or give --lmp")
@@ -284,7 +296,7 @@ def main():
     for (code, t), rs in cases.items():
         if t == "1" or any(x is None for r in rs for x in r["rt"]):
             continue
-        near = [r["wall"] for r in rs if max(r["rt"]) < RT_SLOW_NS]
+        near = [r["wall"] for r in rs if max(r["rt"]) < rt_slow]
         rts = " ".join(f"{r['rt'][0]:.0f}/{r['rt'][1]:.0f}" for r in rs)
         gov = "" if rs[0]["steps_one"] is None else "; steps on one thread " + " ".join(str(r["steps_one"]) for r in rs)
         near_s = f"{statistics.median(near):.2f} s over {len(near)} rounds" if near else "no such round"

@@ -25,9 +25,9 @@
 # (bench/core_speeds.sh).
 # The cases on two threads (two / one, x_N1 two, spheroid / sphere two) run
 # between two readings of the round trip of a cache line between the two
-# CPUs (host_scaling --pingpong, printed as [before/after] ns; skipped when
-# host_scaling is not built): about 100-135 ns with the host's vCPUs near
-# each other, 470-530 ns far apart, where two threads lose (session 35).
+# CPUs (bench/round_trip.sh, printed as [before/after] ns; skipped when
+# host_scaling is not built): about 95-145 ns with the host's vCPUs near
+# each other, 465-535 ns far apart, where two threads lose (session 35).
 # After the medians over all rounds, each such case's median over the
 # rounds with both readings below RT_SLOW ns (default 250), "near".
 # STEPS: steps of each side at 12 000 and of x_N1 (default 1000, as the
@@ -51,24 +51,23 @@ for v in STEPS STEPS_1E5 BLOCK BLOCK_1E5; do
   [[ "${!v}" =~ ^[1-9][0-9]*$ ]] || { echo "paired_targets: ${v} must be a whole number >= 1, not '${!v}'" >&2; exit 2; }
 done
 [[ -x "${BIN}" ]] || { echo "paired_targets: ${BIN} not built" >&2; exit 2; }
-HOST="${HOST:-$(dirname "${BIN}")/host_scaling}"
-RT_SLOW="${RT_SLOW:-250}"
-[[ "${RT_SLOW}" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "paired_targets: RT_SLOW must be a number of ns, not '${RT_SLOW}'" >&2; exit 2; }
-# the round trip now [ns], or nothing without host_scaling
-round_trip() { [[ -x "${HOST}" ]] && "${HOST}" --pingpong --rounds 1 | awk '$2 == "pingpong" { print $3 }'; }
+# shellcheck source=round_trip.sh
+source bench/round_trip.sh
+round_trip_setup paired_targets
 SPH=config/samples/dense_1000.h5
 SPD=config/samples/dense_1000_spheroid.h5
 PIN_ONE="${PIN_ONE:-}"
 for c in ${PIN_ONE}; do
   [[ "${c}" =~ ^[0-9]+$ ]] || { echo "paired_targets: PIN_ONE must list CPU numbers, not '${c}'" >&2; exit 2; }
 done
-cases=() args=() pins=() pooled=()
-# add_case NAME ARGS ONE_THREAD: a case, or with PIN_ONE one per CPU for a one-thread case
+cases=() args=() pins=() pooled=() twos=()
+# add_case NAME ARGS ONE_THREAD: a case, or with PIN_ONE one per CPU for a
+# one-thread case; every other case runs two threads (twos: 1)
 add_case() {
   if [[ "$3" == 1 && -n "${PIN_ONE}" ]]; then
-    for c in ${PIN_ONE}; do cases+=("$1 cpu${c}"); args+=("$2"); pins+=("${c}"); pooled+=("$1"); done
+    for c in ${PIN_ONE}; do cases+=("$1 cpu${c}"); args+=("$2"); pins+=("${c}"); pooled+=("$1"); twos+=(0); done
   else
-    cases+=("$1"); args+=("$2"); pins+=(""); pooled+=("")
+    cases+=("$1"); args+=("$2"); pins+=(""); pooled+=(""); twos+=("$((1 - $3))")
   fi
 }
 add_case "two/one 12000" "--tile 3x2x2 --alternate 1,2 --steps ${STEPS}" 0
@@ -86,8 +85,7 @@ for ((r = 1; r <= R; ++r)); do
   for k in "${!cases[@]}"; do
     run=("${BIN}")
     [[ -n "${pins[k]}" ]] && run=(taskset -c "${pins[k]}" "${BIN}")
-    two=0
-    [[ "${args[k]}" == *"--alternate 1,2"* || "${args[k]}" == *"--threads 2"* ]] && two=1
+    two=${twos[k]}
     rb=""; ra=""
     ((two)) && rb="$(round_trip || true)"
     # shellcheck disable=SC2086
@@ -102,7 +100,9 @@ for ((r = 1; r <= R; ++r)); do
     line+="  ${cases[k]} ${m} (${q1}-${q3})"
     if [[ -n "${rb}" && -n "${ra}" ]]; then
       line+=" [${rb%.*}/${ra%.*}]"
-      awk -v b="${rb}" -v a="${ra}" -v t="${RT_SLOW}" 'BEGIN { exit !(b < t && a < t) }' && near[${k}]+="${m} "
+      near_rt "${rb}" "${ra}" && near[${k}]+="${m} "
+    elif ((two)) && [[ -x "${HOST}" ]]; then
+      echo "paired_targets: warning: ${HOST} --pingpong gave no round trip around '${cases[k]}'" >&2
     fi
   done
   echo "${line}"
@@ -126,7 +126,7 @@ done
 if [[ -x "${HOST}" ]]; then
   echo "medians over the rounds with both round trips below ${RT_SLOW} ns:"
   for k in "${!cases[@]}"; do
-    [[ "${args[k]}" == *"--alternate 1,2"* || "${args[k]}" == *"--threads 2"* ]] || continue
+    ((twos[k])) || continue
     # shellcheck disable=SC2086
     printf '  %-32s %s (%s rounds)\n' "${cases[k]}" "$(median_of ${near[${k}]:-})" "$(wc -w <<<"${near[${k}]:-}")"
   done

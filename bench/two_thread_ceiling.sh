@@ -9,10 +9,11 @@
 # Prints per round the host's S of each kernel, the steal share, rt_ns,
 # ours (one-thread / two-thread cost) and ours / S_sync, then the medians,
 # and the median of ours over the rounds whose two round trips were both
-# below RT_SLOW ns (default 250) and over those with both at or above it. S_sync is the ceiling of a program that, like the DEM step,
-# meets at a barrier every 300 us and loads neither cache nor memory; ours
+# below RT_SLOW ns (default 250) and over those with both at or above it
+# (bench/round_trip.sh). S_sync is the ceiling of a program that, like the
+# DEM step, meets at a barrier every 300 us and loads neither cache nor memory; ours
 # falls further below it by what the step adds (barriers' own cost, the
-# completions of sums, shared cache and memory traffic). rt_ns near 100
+# completions of sums, shared cache and memory traffic). rt_ns near 120
 # or near 500 says in which of the host's two kinds of window the round
 # ran (session 35: ours drops in the second; the phase may change within
 # a round, so rounds whose two readings disagree are left out of both).
@@ -26,9 +27,9 @@ source bench/tile_rounds.sh
 tile_rounds two_thread_ceiling "$@"
 # shellcheck source=median.sh
 source bench/median.sh
-HOST="${HOST:-$(dirname "${BIN}")/host_scaling}"
-RT_SLOW="${RT_SLOW:-250}"
-[[ "${RT_SLOW}" =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "two_thread_ceiling: RT_SLOW must be a number of ns, not '${RT_SLOW}'" >&2; exit 2; }
+# shellcheck source=round_trip.sh
+source bench/round_trip.sh
+round_trip_setup two_thread_ceiling
 [[ -x "${HOST}" ]] || { echo "two_thread_ceiling: ${HOST} not built" >&2; exit 2; }
 cost() {
   "${BIN}" --sample "${SAMPLE}" --tile "${TILE}" --sort-sample --threads "$1" --steps "${STEPS}" 2>/dev/null |
@@ -37,15 +38,13 @@ cost() {
 echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE}, slab-sorted, ${STEPS} steps, ${R} rounds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-6s %9s %9s %9s %9s %9s %7s %11s %9s %9s %7s %9s\n' round S_compute S_fma S_sync S_cache S_memory steal% rt_ns one_us two_us ours ours/S_s
 sc=(); sf=(); sy=(); sa=(); sm=(); ou=(); rel=(); near=(); far=()
-# the round trip now [ns]
-round_trip() { "${HOST}" --pingpong --rounds 1 | awk '$2 == "pingpong" { print $3 }'; }
 for ((r = 1; r <= R; ++r)); do
   host="$("${HOST}" --rounds 1 --seconds 0.1)"
   s_of() { awk -v k="$1" '$2 == k { print $(NF - 1) }' <<<"${host}"; }
   # the kernels' steal shares (-1: unreadable, left out; not the pingpong line)
   steal="$(awk '$1 ~ /^[0-9]+$/ && $2 != "pingpong" && $NF >= 0 { s += $NF; n++ } END { if (n) printf "%.2f", s / n; else print "-" }' <<<"${host}")"
   c="$(s_of compute)"; f="$(s_of fma)"; y="$(s_of sync)"; a="$(s_of cache)"; m="$(s_of memory)"
-  one="$(cost 1)"; rb="$(round_trip)"; two="$(cost 2)"; ra="$(round_trip)"
+  one="$(cost 1)"; rb="$(round_trip || true)"; two="$(cost 2)"; ra="$(round_trip || true)"
   [[ -n "${one}" && -n "${two}" && -n "${y}" && -n "${f}" && -n "${rb}" && -n "${ra}" ]] ||
     { echo "two_thread_ceiling: a run failed" >&2; exit 1; }
   ours="$(awk -v a="${one}" -v b="${two}" 'BEGIN { printf "%.3f", a / b }')"
@@ -53,10 +52,7 @@ for ((r = 1; r <= R; ++r)); do
   printf '%-6s %9s %9s %9s %9s %9s %7s %11s %9s %9s %7s %9s\n' "${r}" "${c}" "${f}" "${y}" "${a}" "${m}" "${steal}" \
     "${rb%.*}/${ra%.*}" "${one}" "${two}" "${ours}" "${ratio}"
   sc+=("${c}"); sf+=("${f}"); sy+=("${y}"); sa+=("${a}"); sm+=("${m}"); ou+=("${ours}"); rel+=("${ratio}")
-  case "$(awk -v b="${rb}" -v a="${ra}" -v t="${RT_SLOW}" 'BEGIN { print (b < t && a < t) ? "near" : (b >= t && a >= t) ? "far" : "mixed" }')" in
-    near) near+=("${ours}") ;;
-    far) far+=("${ours}") ;;
-  esac
+  if near_rt "${rb}" "${ra}"; then near+=("${ours}"); elif far_rt "${rb}" "${ra}"; then far+=("${ours}"); fi
 done
 printf '%-6s %9s %9s %9s %9s %9s %7s %11s %9s %9s %7s %9s\n' median "$(median_of "${sc[@]}")" "$(median_of "${sf[@]}")" \
   "$(median_of "${sy[@]}")" "$(median_of "${sa[@]}")" "$(median_of "${sm[@]}")" "" "" "" "" \

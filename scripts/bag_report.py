@@ -178,18 +178,27 @@ def open_bags(paths):
             bags.append((p, rosbag.Bag(p, "r")))
         except Exception as e:  # ROSBagException, ROSBagFormatException, OSError, ...
             raise ReportError("%s: not a readable bag (%s)" % (p, e))
-    bags.sort(key=lambda pb: (resume_number(pb[0]), bag_start(pb[1])))
+    stems = {split_stem(p) for p, _ in bags}
+    bags.sort(key=lambda pb: (resume_number(pb[0], stems), bag_start(pb[1])))
     return bags
 
 
-def resume_number(path):
-    """N of a resumed test's file PREFIX_rN_K.bag (run_triaxial.sh), 0 for
-    any other name: a resumed run's files come after the run it resumes,
-    whose ticks they run again. Their first message does not say so: the
-    resumed recorder may take its node's latched idle status before the first
-    /clock, at time 0 (session 35: unit_rig_resume then lost tick 1's status)."""
-    m = re.search(r"_r(\d+)_\d+\.bag$", os.path.basename(path))
-    return int(m.group(1)) if m else 0
+def split_stem(path):
+    """PREFIX of a split recording's file PREFIX_K.bag, None for other names."""
+    m = re.match(r"(.*)_\d+\.bag$", os.path.basename(path))
+    return m.group(1) if m else None
+
+
+def resume_number(path, stems):
+    """N when the file is PREFIX_rN_K.bag of a test resumed from the one
+    recorded in PREFIX_K.bag, also given (stems: the given files'
+    split_stem; run_triaxial.sh names them so); else 0. A resumed run's
+    files come after the run it resumes, whose ticks they run again. Their
+    first message does not say so: the resumed recorder may take its node's
+    latched idle status before the first /clock, at time 0 (session 35:
+    unit_rig_resume then lost tick 1's status)."""
+    m = re.match(r"(.*)_r(\d+)_\d+\.bag$", os.path.basename(path))
+    return int(m.group(2)) if m and m.group(1) in stems else 0
 
 
 def bag_start(bag):

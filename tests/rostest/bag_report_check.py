@@ -236,11 +236,25 @@ class BagReportTest(unittest.TestCase):
 
     def test_a_resumed_recording_gives_the_uninterrupted_table(self):
         out = os.path.join(self.tmp, "resumed")
-        r = run_tool(*self.resumed_bags, "--out", out, "--csv-only")
+        # given in reverse: the resumed file, whose first message (its idle
+        # status, time 0) is the earliest of all, must still be read last
+        r = run_tool(*reversed(self.resumed_bags), "--out", out, "--csv-only")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("seen twice", r.stderr)  # the ticks run again are said (their later message is used)
         with open(os.path.join(out, "rig_series.csv")) as f, open(os.path.join(self.out, "rig_series.csv")) as g:
             self.assertEqual(f.read(), g.read())
+
+    def test_resumed_files_are_known_by_name_beside_the_run_they_resume(self):
+        sys.path.insert(0, os.path.dirname(TOOL))
+        import bag_report
+        def numbers(*names):
+            stems = {bag_report.split_stem(n) for n in names}
+            return [bag_report.resume_number(n, stems) for n in names]
+        self.assertEqual(numbers("rig_0.bag", "rig_1.bag", "rig_r1_0.bag", "rig_r2_3.bag"), [0, 0, 1, 2])
+        # a prefix that itself ends in _rN: only a resume of a given run counts
+        self.assertEqual(numbers("x_r2_0.bag", "x_r2_r1_0.bag"), [0, 1])
+        self.assertEqual(numbers("rig_r1_0.bag", "rig_r1_1.bag"), [0, 0])  # the run resumed is not given
+        self.assertEqual(numbers("a.bag", "a_r1.bag", "rig_killed.bag"), [0, 0, 0])
 
     def test_one_row_per_tick_strictly_rising(self):
         rows = self.rows()
