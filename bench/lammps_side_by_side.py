@@ -91,6 +91,23 @@ def round_trip_ns():
     return float(m.group(1)) if p.returncode == 0 and m else None
 
 
+def timed_run(cmd, **kw):
+    """subprocess.run(cmd, capture_output, text) and its wall time [s]."""
+    t = time.perf_counter()
+    p = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    return p, time.perf_counter() - t
+
+
+def between_readings(threads, run):
+    """run() and the round trips (before, after) around it when it runs more
+    than one thread, else (None, None)."""
+    if threads == "1":
+        return run(), (None, None)
+    before = round_trip_ns()
+    result = run()
+    return result, (before, round_trip_ns())
+
+
 def governor_steps_one(stderr):
     """Steps triax_run's thread governor ran on one thread (None: no governor line)."""
     m = re.search(r"threads chosen at run time: (\d+) steps on 1, (\d+) on (\d+)", stderr)
@@ -249,35 +266,28 @@ def main():
             env = dict(os.environ, OMP_NUM_THREADS="1")
             cmd = ([a.lmp] if t == "1" else ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", t, a.lmp])
             ld = load()
-            rt_before = round_trip_ns() if t != "1" else None
-            t_proc = time.perf_counter()
-            p = subprocess.run(cmd + ["-in", "in.triax", "-log", "none", "-screen", "lammps.out"], cwd=out, env=env,
-                               capture_output=True, text=True)
-            t_proc = time.perf_counter() - t_proc
-            rt_after = round_trip_ns() if t != "1" else None
+            (p, t_proc), rt = between_readings(t, lambda: timed_run(
+                cmd + ["-in", "in.triax", "-log", "none", "-screen", "lammps.out"], cwd=out, env=env))
             with open(os.path.join(out, "lammps.out")) as f:
                 log = f.read()
             if p.returncode != 0 or "Loop time" not in log:
                 sys.exit(f"lammps_side_by_side: lmp failed (see {out}/lammps.out): {p.stderr[-500:]}")
             r = parse_lammps(log, s["n"])
             r["dt_t0"], r["load"], r["proc"] = a.lammps_ct, ld, t_proc
-            r["rt"], r["steps_one"] = (rt_before, rt_after), None
+            r["rt"], r["steps_one"] = rt, None
             cases.setdefault(("LAMMPS", t), []).append(r)
             for c in a.ours.split():
                 env = dict(os.environ, OMP_NUM_THREADS=t)
                 res = os.path.join(out, f"ours_{c}.h5")
                 ld = load()
-                rt_before = round_trip_ns() if t != "1" else None
-                t_proc = time.perf_counter()
-                p = subprocess.run([os.path.join(BIN, "triax_run"), os.path.join(out, f"ours_{c}.yaml"), "--out", res,
-                                    "--quiet"], env=env, capture_output=True, text=True)
-                t_proc = time.perf_counter() - t_proc
-                rt_after = round_trip_ns() if t != "1" else None
+                (p, t_proc), rt = between_readings(t, lambda: timed_run(
+                    [os.path.join(BIN, "triax_run"), os.path.join(out, f"ours_{c}.yaml"), "--out", res, "--quiet"],
+                    env=env))
                 if p.returncode != 0:
                     sys.exit(f"lammps_side_by_side: triax_run failed: {p.stderr[-500:]}")
                 r = parse_ours(p.stdout.strip().splitlines()[-1], res, s["n"])
                 r["load"], r["proc"] = ld, t_proc
-                r["rt"], r["steps_one"] = (rt_before, rt_after), governor_steps_one(p.stderr)
+                r["rt"], r["steps_one"] = rt, governor_steps_one(p.stderr)
                 cases.setdefault((f"ours {c}", t), []).append(r)
         print(f"# round {rnd + 1}/{a.rounds} done, load {load()}", flush=True)
     print(f"{'code':<16} {'T':>2} {'dt/T0':>7} {'steps':>7} {'wall_s':>8} {'proc_s':>7} {'us/p-step':>10} "
