@@ -159,8 +159,11 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         const std::int32_t ep = c_entry[c + kPrefetchContacts];
         __builtin_prefetch(in.state + ep, 1);
         __builtin_prefetch(in.spring + ep, 1);
-        if (in.force_out) {  // the partner's sums (scattered reads when N is large)
-          const std::int32_t jp = in.partner[ep];
+        const std::int32_t jp = in.partner[ep];
+        // the partner's sums (scattered reads when N is large), only when
+        // this thread makes them: a prefetch for writing of another run's
+        // sums takes their line from the thread that is adding to it
+        if (in.force_out && in.home(jp)) {
           __builtin_prefetch(in.force_out + jp, 1);
           __builtin_prefetch(in.torque_out + jp, 1);
         }

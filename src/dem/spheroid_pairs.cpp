@@ -411,7 +411,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       __builtin_prefetch(in.omg + jp);
       __builtin_prefetch(in.state + ep, 1);
       __builtin_prefetch(in.spring + ep, 1);
-      if (in.force_out) {
+      if (in.force_out && in.home(jp)) {  // never another run's sums (sphere_pairs.cpp)
         __builtin_prefetch(in.force_out + jp, 1);
         __builtin_prefetch(in.torque_out + jp, 1);
       }
