@@ -5,8 +5,8 @@
 # and on two, then the same number of particles tiled as a column (Kx1x1,
 # K the product of TILE's factors) on two threads, whose runs meet at
 # planes of a smaller cross-section when TILE's is larger than one tile
-# (the cut: triax_bench's edge_particles + tail_particles, the particles
-# with a pair crossing the runs). Prints per round the costs (us per
+# (the cut: triax_bench's cut_particles, the particles with a pair
+# crossing the runs). Prints per round the costs (us per
 # particle-step), the cut particles and the two speed-ups over TILE's
 # one-thread cost, then the medians over the normal and the slow rounds and
 # the slow phases' extra cost per cut particle and step for both tilings,
@@ -43,11 +43,11 @@ key() {  # KEY FILE -> its value; fails when the run printed none
   [[ -n "${v}" ]] || { echo "cut_cost: triax_bench printed no '$1'" >&2; return 1; }
   echo "${v}"
 }
-cut() {  # FILE -> edge + tail particles; fails when there are none
-  local e t
-  e="$(key edge_particles "$1")"; t="$(key tail_particles "$1")"
-  ((e + t > 0)) || { echo "cut_cost: no particle at the cut" >&2; return 1; }
-  echo "$((e + t))"
+cut() {  # FILE -> the particles at the cut; fails when there are none
+  local c
+  c="$(key cut_particles "$1")"
+  ((c > 0)) || { echo "cut_cost: no particle at the cut" >&2; return 1; }
+  echo "${c}"
 }
 echo "# $(date -u '+%F %H:%M UTC'), ${SAMPLE} tiled ${TILE} and ${COLUMN}, slab-sorted, ${STEPS} steps, ${R} rounds, slow: median one / two below ${SLOW_BELOW}"
 printf '%-6s %9s %9s %9s %7s %7s %9s %9s\n' round one_us two_us col_two cut col_cut two/one col/one

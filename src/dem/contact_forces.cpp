@@ -92,6 +92,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // partner outside the thread's run: PairInputs::home).
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
+  const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
   // Gather, per particle, over its gather slots in list order: entries of
   // owners stored before it (force added), its own entries (force
@@ -197,6 +198,12 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const int planned_team = omp_get_max_threads();
   const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_);
   bool plan_used = false;  // set by a team of several
+  // Spheres on a team: each thread's ghost springs follow on from the last
+  // compute() only when that was a team's with this plan; else they are
+  // taken from the list (where the owners keep them) before the pair loops.
+  const bool ghosts_follow = !spheroids && ghosts_follow_;
+  std::vector<std::vector<Vec3>>* ghost_springs = &ghost_springs_;
+  const Vec3* list_springs = pd.spring.data();
   const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
@@ -238,12 +245,21 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // and the sums, so it mostly reads the particles it wrote itself.
       // The runs are cut by the time before the barrier; the completions
       // after it are shared by slots (split_sums.h).
-      if (!plan_current || team != planned_team) {
+      if (!plan_current || team != planned_team || (!spheroids && !ghosts_follow)) {
 #pragma omp single
         {
           const double planning = omp_get_wtime();
           runs->prepare(nchunks, n, team);
           split->prepare(list, n, *runs);
+          if (!spheroids) {  // the ghosts' springs from their owners' entries
+            ghost_springs->resize(static_cast<std::size_t>(team));
+            for (int g = 0; g < team; ++g) {
+              const std::vector<std::int32_t>& entries = split->ghosts(g);
+              std::vector<Vec3>& springs = (*ghost_springs)[static_cast<std::size_t>(g)];
+              springs.resize(entries.size());
+              for (std::size_t k = 0; k < entries.size(); ++k) springs[k] = list_springs[entries[k]];
+            }
+          }
           phases->add(omp_get_thread_num(), PhaseTimes::Prepare, omp_get_wtime() - planning);
         }
         // (implicit barrier: the plan is ready)
@@ -270,19 +286,36 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       own.torque_out = tout;
       own.own_begin = i0;
       own.own_span = static_cast<std::uint32_t>(i1 - i0);
+      // spheres: the ghosts owned in lower runs, the run's chunks, the
+      // ghosts owned in higher runs (each home particle's terms in list
+      // order, so its sums are done when this thread's pair loop is)
+      const std::vector<std::int32_t>& ghosts = split->ghosts(t);
+      const auto run_ghosts = [&](std::size_t k0, std::size_t k1) {
+        if (k1 <= k0) return;
+        Vec3* springs = (*ghost_springs)[static_cast<std::size_t>(t)].data();
+        mine.reserve(k1 - k0);
+        ghost_kernel(own, ghosts.data() + k0, static_cast<std::int32_t>(k1 - k0), springs + k0, mine.entry.data(),
+                     mine.branch.data(), mine.dist2.data());
+      };
+      if (!spheroids) run_ghosts(0, split->ghosts_lower(t));
       for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(own, c);
+      if (!spheroids) run_ghosts(split->ghosts_lower(t), ghosts.size());
       const double paired = omp_get_wtime() - pairs_start;
-#pragma omp barrier
-      const double summing = omp_get_wtime();
-      spheroids ? complete(t, gather_spheroid, finish_spheroid) : complete(t, gather_sphere, finish_sphere);
       runs->record(t, prepared + paired);
       phases->add(t, PhaseTimes::Prepare, prepared);
       phases->add(t, PhaseTimes::Pairs, paired);
-      phases->add(t, PhaseTimes::Sums, omp_get_wtime() - summing);
+      if (spheroids) {
+#pragma omp barrier
+        // (every run's pair states are in: the completions, split_sums.h)
+        const double summing = omp_get_wtime();
+        complete(t, gather_spheroid, finish_spheroid);
+        phases->add(t, PhaseTimes::Sums, omp_get_wtime() - summing);
+      }
     }
   }
   phases_.add_region(PhaseTimes::ForceRegion, omp_get_wtime() - region_start);
   split_used_ = plan_used;
+  ghosts_follow_ = plan_used && !spheroids;
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);

@@ -21,6 +21,33 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     for (std::int32_t c = c0; c < c1; ++c) run_of_chunk[static_cast<std::size_t>(c)] = t;
   }
   const auto run_of = [&](std::int32_t p) { return run_of_chunk[static_cast<std::size_t>(p / kChunkSize)]; };
+  edge_.assign(t_count, {});
+  tail_.assign(t_count, {});
+  ghost_.assign(t_count, {});
+  ghost_lower_.assign(t_count, 0);
+  edges_ = tails_ = ghosts_ = cut_ = 0;
+  if (!list.has_spheroids()) {
+    // spheres: every crossing entry a ghost of its partner's thread, those
+    // owned in lower runs first (entries ascending, so list order)
+    const std::vector<std::int32_t>& partner = list.pairs().partner;
+    const std::vector<std::int32_t>& owners = list.owners();
+    std::vector<std::vector<std::int32_t>> higher(t_count);
+    std::vector<std::uint8_t> at_cut(n, 0);
+    for (std::size_t e = 0; e < partner.size(); ++e) {
+      const int to = run_of(owners[e]), tp = run_of(partner[e]);
+      if (to == tp) continue;
+      (to < tp ? ghost_ : higher)[static_cast<std::size_t>(tp)].push_back(static_cast<std::int32_t>(e));
+      ++ghosts_;
+      std::uint8_t& flag = at_cut[static_cast<std::size_t>(partner[e])];
+      cut_ += flag == 0 ? 1 : 0;
+      flag = 1;
+    }
+    for (std::size_t t = 0; t < t_count; ++t) {
+      ghost_lower_[t] = ghost_[t].size();
+      ghost_[t].insert(ghost_[t].end(), higher[t].begin(), higher[t].end());
+    }
+    return;
+  }
   // the partners of pairs owned in other runs, flagged 1 (some owned in a
   // lower run) and 2 (some in a higher run)
   const std::vector<std::int32_t>& partner = list.pairs().partner;
@@ -49,9 +76,6 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
     }
   }
   // thread shares: consecutive items, cut by the slots read before them
-  edge_.assign(t_count, {});
-  tail_.assign(t_count, {});
-  edges_ = tails_ = 0;
   std::int64_t done = 0;
   for (const Tail& x : items) {
     const auto share = std::min<std::size_t>(
@@ -66,6 +90,7 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
       ++tails_;
     }
   }
+  cut_ = edges_ + tails_;
 }
 
 }  // namespace vt::dem

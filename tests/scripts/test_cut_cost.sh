@@ -32,10 +32,10 @@ echo "particles: 12000"
 if [[ \${threads} == 1 ]]; then
   cost=\$(pick - 0.080 0.082 0.078 0.160 0.080 0.081)
 elif [[ \${tile} == 12x1x1 ]]; then
-  echo "edge_particles: 100"; echo "tail_particles: \$(pick - 150 200 150 200 160 200)"
+  echo "cut_particles: \$(pick - 250 300 250 300 260 300)"
   cost=\$(pick - 0.0400 0.0425 0.0400 0.0425 0.0430 0.0500)
 else
-  echo "edge_particles: 600"; echo "tail_particles: \$(pick - 400 500 410 500 390 500)"
+  echo "cut_particles: \$(pick - 1000 1100 1010 1100 990 1100)"
   cost=\$(pick - 0.040 0.060 0.041 0.058 0.046 0.070)
 fi
 [[ -e "${tmp}/no_cost" ]] || echo "us_per_particle_step: \${cost}"

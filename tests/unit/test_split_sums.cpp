@@ -2,13 +2,17 @@
 // per-particle sums of the pair loop without a gather of every particle. Its
 // invariants, checked on the neighbour list of a loaded, spatially sorted
 // packing of several chunks:
-//   - the completions after the pair loops: every partner of a pair owned
-//     in another run exactly once, as an edge particle (some pair owned in
-//     a lower run) or a tail starting at its first slot owned in a higher
-//     run, shared among the threads in particle order and in about equal
-//     slots, with contacts among the crossing pairs of both kinds (the sums
-//     themselves: Restart.PairLoopSumsEqualTheGatherAcrossChunks,
-//     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
+//   - spheres: every pair owned in another run than its partner's exactly
+//     once as a ghost of the partner's thread, those owned in lower runs
+//     first, each part in list order, and no completions;
+//   - spheroids: the completions after the pair loops: every partner of a
+//     pair owned in another run exactly once, as an edge particle (some
+//     pair owned in a lower run) or a tail starting at its first slot
+//     owned in a higher run, shared among the threads in particle order
+//     and in about equal slots;
+//   both with contacts among the crossing pairs of both kinds (the sums
+//   themselves: Restart.PairLoopSumsEqualTheGatherAcrossChunks,
+//   SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
 //   - the plan follows the runs, N and the list's rebuilds.
 #include <gtest/gtest.h>
 
@@ -83,13 +87,13 @@ TEST(SplitSums, ThePlanFollowsTheRunsAndTheList) {
   plan.prepare(list, n, runs);
   EXPECT_TRUE(plan.current(list, n, runs));
   EXPECT_FALSE(plan.current(list, n + 1, runs)) << "another N: another plan";
-  const std::size_t edges_two = plan.edge_count(), tails_two = plan.tail_count();
+  const std::size_t ghosts_two = plan.ghost_count();
   // new runs: a new plan, with more ends
   runs.prepare(chunk_count(n), n, 3);
   EXPECT_FALSE(plan.current(list, n, runs));
   plan.prepare(list, n, runs);
   EXPECT_TRUE(plan.current(list, n, runs));
-  EXPECT_GT(plan.edge_count() + plan.tail_count(), edges_two + tails_two) << "three runs have more ends than two";
+  EXPECT_GT(plan.ghost_count(), ghosts_two) << "three runs have more ends than two";
   // the list rebuilt (the packing shears on): a new plan
   const std::int64_t builds = list.rebuild_count();
   omp_set_num_threads(1);
@@ -176,6 +180,8 @@ std::pair<std::size_t, std::size_t> check_completions(const NeighborList& list, 
   EXPECT_EQ(tail_shares, tail) << threads << " threads";
   EXPECT_EQ(plan.edge_count(), edge.size());
   EXPECT_EQ(plan.tail_count(), tail.size());
+  EXPECT_EQ(plan.cut_count(), edge.size() + tail.size());
+  EXPECT_EQ(plan.ghost_count(), 0u) << "spheroids: completions, no ghosts";
   std::int64_t total = 0;
   for (const std::int64_t s : slots) total += s;
   for (int t = 0; t < threads; ++t)
@@ -183,19 +189,69 @@ std::pair<std::size_t, std::size_t> check_completions(const NeighborList& list, 
   return {edge.size(), tail.size()};
 }
 
+/// The ghosts of a sphere list on `threads` equal runs: every entry whose
+/// owner and partner are in different runs exactly once, as a ghost of
+/// the partner's thread; each thread's ghosts those owned in lower runs
+/// (ghosts_lower of them), then those owned in higher runs, each part
+/// ascending; contacts among both parts; no completions. Returns the ghosts.
+std::size_t check_ghosts(const NeighborList& list, std::size_t n, int threads) {
+  const auto [plan, run_of] = plan_of(list, n, threads);
+  const std::vector<std::int32_t>& owners = list.owners();
+  const std::vector<std::int32_t>& partner = list.pairs().partner;
+  std::vector<int> seen(partner.size(), 0);
+  std::size_t touching_lower = 0, touching_higher = 0, total = 0;
+  for (int t = 0; t < threads; ++t) {
+    const std::vector<std::int32_t>& g = plan.ghosts(t);
+    const std::size_t lower = plan.ghosts_lower(t);
+    if (lower > g.size()) {
+      ADD_FAILURE() << "thread " << t << ": more lower-run ghosts than ghosts";
+      return 0;
+    }
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      const auto e = static_cast<std::size_t>(g[k]);
+      ++seen[e];
+      EXPECT_EQ(run_of[static_cast<std::size_t>(partner[e])], t) << "a ghost's partner is home";
+      const int to = run_of[static_cast<std::size_t>(owners[e])];
+      EXPECT_EQ(k < lower, to < t) << "entry " << e << ": lower runs' ghosts first, then higher runs'";
+      EXPECT_NE(to, t);
+      if (k > 0 && k != lower) {
+        EXPECT_LT(g[k - 1], g[k]) << "each part in list order";
+      }
+      (to < t ? touching_lower : touching_higher) += list.pairs().active[e] ? 1 : 0;
+    }
+    total += g.size();
+    EXPECT_TRUE(plan.edge_particles(t).empty() && plan.edge_tails(t).empty()) << "spheres: no completions";
+  }
+  std::vector<bool> at_cut(n, false);
+  for (std::size_t e = 0; e < partner.size(); ++e) {
+    const bool crossing = run_of[static_cast<std::size_t>(owners[e])] != run_of[static_cast<std::size_t>(partner[e])];
+    EXPECT_EQ(seen[e], crossing ? 1 : 0) << "entry " << e;
+    if (crossing) at_cut[static_cast<std::size_t>(partner[e])] = true;
+  }
+  EXPECT_EQ(plan.cut_count(), static_cast<std::size_t>(std::count(at_cut.begin(), at_cut.end(), true)))
+      << "the particles at the cut: partners of a pair owned in another run";
+  EXPECT_GT(touching_lower, 0u);
+  EXPECT_GT(touching_higher, 0u);
+  EXPECT_EQ(plan.ghost_count(), total);
+  EXPECT_EQ(plan.edge_count() + plan.tail_count(), 0u);
+  return total;
+}
+
 }  // namespace
 
-TEST(SplitSums, CompletionsTakeEveryCrossingPartnerOnceInSharesOfEqualSlots) {
-  // spheres: 1600 loaded, sorted, in 4 chunks
+TEST(SplitSums, SpheresTakeEveryCrossingPairOnceAsAGhostOfItsPartnersThread) {
+  // 1600 loaded spheres, sorted, in 4 chunks
   const Simulation spheres = sorted_packing();
   ASSERT_TRUE(vt::test::has_owner_stored_after(spheres.neighbor_list()));
   ASSERT_GT(spheres.state().contacts.size(), 1000u) << "the test needs loaded contacts";
   for (const int threads : {2, 3}) {
-    const auto [edge, tails] = check_completions(spheres.neighbor_list(), spheres.particles().size(), threads);
-    EXPECT_GT(edge, 0u);
-    EXPECT_GT(tails, 0u);
-    EXPECT_LT(edge + tails, spheres.particles().size() / 2) << "most particles are summed by their pair loop alone";
+    const std::size_t ghosts = check_ghosts(spheres.neighbor_list(), spheres.particles().size(), threads);
+    EXPECT_GT(ghosts, 0u);
+    EXPECT_LT(ghosts, spheres.neighbor_list().pairs().size() / 4) << "most pairs are evaluated once";
   }
+}
+
+TEST(SplitSums, CompletionsTakeEveryCrossingPartnerOnceInSharesOfEqualSlots) {
   // spheroids: 2 x 2 x 2 tiles of 300 loaded spheroids, sorted: 2400 in 5 chunks
   const Simulation sim = stepped_on_one_thread(
       vt::test::spatially_sorted(tile_periodic(vt::test::loaded_spheroid_packing(), 2, 2, 2)), 5);

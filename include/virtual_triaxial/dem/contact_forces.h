@@ -16,10 +16,13 @@
 //     ask for the gather below instead, for A/B);
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
 //     by measured speed) and sums its run's particles in its own pair loop;
-//     after a barrier the partners of pairs owned in a lower run are
-//     gathered again and the terms of pairs owned in higher runs are added
-//     from their pair states to the others (tails), so that the order stays
-//     the list's (split_sums.h); no gather of every particle.
+//     spheres: the pairs owned in other runs whose partner is home are
+//     evaluated again by it as ghosts, before and after its chunks, from
+//     its own copies of their springs; spheroids: after a barrier the
+//     partners of pairs owned in a lower run are gathered again and the
+//     terms of pairs owned in higher runs are added from their pair states
+//     to the others (tails); either way the order stays the list's
+//     (split_sums.h); no gather of every particle.
 // Same terms, same order, same bits (the torque terms use fused_multiply_add
 // so that compiler contraction cannot differ between them). The sums
 // therefore depend on the storage order (fixed during a run) but not on the
@@ -65,10 +68,13 @@
 // store-forwarding stall). On one thread there is no gather (its scattered
 // reads of other particles' pair states were the step's largest cost growth
 // with N, and it costs 12 % even where they fit the L2 cache); on several
-// threads only the particles of pairs that cross the runs are completed
-// after a barrier (split_sums.h): the partners of pairs owned in a lower
-// run gathered again, the terms of pairs owned in higher runs added from
-// their pair states (tails).
+// threads the sphere pairs that cross the runs are evaluated twice (ghosts,
+// split_sums.h: no pair state is read by another thread; 0.869 of the
+// time of the completions below at 12 000 dense spheres with the host's
+// two vCPUs far apart, 1.002 near, session 36), and for spheroids the
+// particles of pairs that cross the runs are completed after a barrier:
+// the partners of pairs owned in a lower run gathered again, the terms of
+// pairs owned in higher runs added from their pair states (tails).
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -90,7 +96,7 @@
 // again, edge_tails add the terms of higher runs; session 16:
 // gathering every particle was 17 % of a two-thread run's CPU at 12 000
 // spheroids, now 8 %; 0.954x the time, median of 20 interleaved rounds).
-// Spheres take the same completions since session 21.
+// Spheres took the same completions in sessions 21-35 (ghosts since 36).
 #pragma once
 
 #include <cstddef>
@@ -178,6 +184,13 @@ class ContactForces {
   /// (edge particles) and completed with tails (split_sums.h); 0 otherwise.
   std::size_t split_edges() const { return split_used_ ? split_.edge_count() : 0; }
   std::size_t split_tails() const { return split_used_ ? split_.tail_count() : 0; }
+  /// On several threads with spheres: the pairs the last compute()
+  /// evaluated twice, once by their owner's thread and once, as a ghost,
+  /// by their partner's (SplitSums::ghosts); 0 otherwise.
+  std::size_t ghost_pairs() const { return split_used_ ? split_.ghost_count() : 0; }
+  /// On several threads: the particles with a pair owned in another run
+  /// (SplitSums::cut_count); 0 otherwise.
+  std::size_t cut_particles() const { return split_used_ ? split_.cut_count() : 0; }
   /// Whether the last compute() ran on several threads (each thread's pair
   /// loop, then the completions, split_sums.h).
   bool split_used() const { return split_used_; }
@@ -213,6 +226,12 @@ class ContactForces {
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
+  /// Spheres on several threads: each thread's copies of its ghosts'
+  /// springs (by SplitSums::ghosts index), which follow on from the last
+  /// compute() when that was a team's with the same plan (ghosts_follow_);
+  /// otherwise refilled from the list first.
+  std::vector<std::vector<Vec3>> ghost_springs_;
+  bool ghosts_follow_ = false;
 };
 
 }  // namespace vt::dem

@@ -17,12 +17,14 @@
 //   Prepare   zeroing the thread's force and torque sums (several threads;
 //             one thread zeroes them before the region, untimed); spheroids:
 //             their support data (SpheroidSupport) for this evaluation; several
-//             threads: the plan of runs and completions when it is remade
-//             (one thread makes it while the others wait)
-//   Pairs     the thread's own pair loop (its run of chunks)
-//   Sums      the gather (one thread, gather mode); several threads: after
-//             the barrier, the thread's share of the completions (edge
-//             gathers and tails, split_sums.h)
+//             threads: the plan of runs and ghosts or completions when it
+//             is remade, and the ghosts' springs taken from the list (one
+//             thread does it while the others wait)
+//   Pairs     the thread's own pair loop (its run of chunks; spheres on
+//             several threads: with its ghosts, split_sums.h)
+//   Sums      the gather (one thread, gather mode); spheroids on several
+//             threads: after the barrier, the thread's share of the
+//             completions (edge gathers and tails, split_sums.h)
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
 // Waits, step by step (add_region, once per region and step, serially):
 // with b_t the busy seconds thread t added since the last add_region (this

@@ -151,6 +151,10 @@ class Simulation {
   /// (split_sums.h). 0 on one thread.
   std::size_t split_edges() const { return contact_forces_.split_edges(); }
   std::size_t split_tails() const { return contact_forces_.split_tails(); }
+  /// Pairs evaluated twice on several threads (spheres: ghosts, ContactForces::ghost_pairs).
+  std::size_t ghost_pairs() const { return contact_forces_.ghost_pairs(); }
+  /// Particles with a pair owned in another thread's run (ContactForces::cut_particles).
+  std::size_t cut_particles() const { return contact_forces_.cut_particles(); }
   /// Whether the last step summed in each thread's pair loop (several threads).
   bool split_used() const { return contact_forces_.split_used(); }
   /// Chunks per thread of the pair loop and the integrator (thread_runs.h).
