@@ -687,13 +687,11 @@ int main(int argc, char** argv) {
               static_cast<double>(sim->neighbor_list().pairs().size()) / np);
   std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
   std::printf("sums_in: %s\n", sim->summed_in_pair_loop() ? "pair loop"
-                                : sim->split_used()        ? (sim->ghost_pairs() > 0 ? "each thread's pair loop, with the pairs crossing runs as ghosts"
-                                                                                     : "each thread's pair loop, then the particles of pairs crossing runs")
+                                : sim->split_used()        ? "each thread's pair loop, with the pairs crossing runs as ghosts"
                                                            : "gather");
   if (sim->split_used())
-    std::printf("cut_particles: %zu\nedge_particles: %zu\ntail_particles: %zu\nghost_pairs: %zu\nthread_run_recuts: %lld\n",
-                sim->cut_particles(), sim->split_edges(), sim->split_tails(), sim->ghost_pairs(),
-                static_cast<long long>(sim->thread_runs().recuts()));
+    std::printf("cut_particles: %zu\nghost_pairs: %zu\nthread_run_recuts: %lld\n", sim->cut_particles(),
+                sim->ghost_pairs(), static_cast<long long>(sim->thread_runs().recuts()));
   std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));
   std::printf("mean_stress_pa: %.1f\n", m.p);
   if (spheroids) {

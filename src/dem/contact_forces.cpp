@@ -39,6 +39,38 @@ void ContactForces::Scratch::reserve(std::size_t n) {
 using pairs::PairInputs;
 using pairs::kPrefetchParticles;
 
+void ContactForces::GhostPairs::take(const NeighborList& list, const std::vector<std::int32_t>& entries,
+                                     std::size_t lower) {
+  const PairData& pd = list.pairs();
+  const std::size_t count = entries.size();
+  owner.resize(count);
+  partner.resize(count);
+  spring.resize(count);
+  state.resize(count);
+  active.resize(count);
+  spheroid.resize(pd.spheroid.empty() ? 0 : count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto e = static_cast<std::size_t>(entries[k]);
+    owner[k] = list.owners()[e];
+    partner[k] = pd.partner[e];
+    spring[k] = pd.spring[e];
+    state[k] = pd.state[e];
+    active[k] = pd.active[e];
+    if (!spheroid.empty()) spheroid[k] = pd.spheroid[e];
+  }
+  off = {0, static_cast<std::int32_t>(lower), static_cast<std::int32_t>(count)};
+}
+
+void ContactForces::GhostPairs::point(PairInputs& in) {
+  in.off = off.data();
+  in.owner = owner.data();
+  in.partner = partner.data();
+  in.spring = spring.data();
+  in.state = state.data();
+  in.active = active.data();
+  in.sph = spheroid.empty() ? nullptr : spheroid.data();
+}
+
 void ContactForces::set_viscous_damping(const ViscousContactDamping& d) { viscous_a_ = d.coefficient(); }
 
 ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell, NeighborList& list,
@@ -92,7 +124,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // partner outside the thread's run: PairInputs::home).
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
-  const pairs::GhostKernel ghost_kernel = pairs::sphere_ghost_kernel(viscous_a_ > 0.0);
 
   // Gather, per particle, over its gather slots in list order: entries of
   // owners stored before it (force added), its own entries (force
@@ -101,13 +132,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
   // bit (a sum that starts at +0 and only adds or subtracts is never -0),
   // so the loop has no unpredictable branch, and the sums equal those of
-  // the one-thread pair loop, which adds the contacts only. Spheres: the
-  // slots of particle i from slot g on, added to f and t, stored as its
-  // sums (g = its first slot: the whole gather; a tail's slot: the tail,
-  // where every sign is +1):
-  const auto finish_sphere = [&](std::int32_t i, std::int32_t g, Vec3 f, Vec3 t) {
+  // the one-thread pair loop, which adds the contacts only. Spheres:
+  const auto gather_sphere = [&](std::int32_t i) {
     const double ri = rad[i];
-    for (; g < goff[i + 1]; ++g) {
+    Vec3 f{}, t{};
+    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
       const std::int32_t code = gcode[g];
       const PairState& s = ps[code >> 2];
       // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
@@ -118,9 +147,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     fout[i] = f;
     tout[i] = t;
   };
-  const auto gather_sphere = [&](std::int32_t i) { finish_sphere(i, goff[i], Vec3{}, Vec3{}); };
   // The pair states of particle i's slots from slot g on, prefetched (the
-  // gathers' callers, kPrefetchParticles particles ahead).
+  // gather's caller, kPrefetchParticles particles ahead).
   const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
     for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
   };
@@ -142,18 +170,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   // for the entries of other particles), the one on the owner in the
   // spheroid pair state (own entries: consecutive in the list).
   const SpheroidPairState* sps = spheroids ? pd.spheroid.data() : nullptr;
-  // The slots of particle i from slot g on, all of owners stored after i
-  // (the partner's terms: force and the moment on j), added to f and t,
-  // stored as its sums: the end of gather_spheroid, and a tail.
-  const auto finish_spheroid = [&](std::int32_t i, std::int32_t g, Vec3 f, Vec3 t) {
-    for (; g < goff[i + 1]; ++g) {
-      const std::int32_t e = gcode[g] >> 2;
-      f += ps[e].force;
-      t += ps[e].moment_axis;
-    }
-    fout[i] = f;
-    tout[i] = t;
-  };
   const auto gather_spheroid = [&](std::int32_t i) {
     Vec3 f{}, t{};
     std::int32_t g = goff[i];
@@ -168,49 +184,34 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       f -= ps[e].force;
       t += sps[e].torque_i;
     }
-    finish_spheroid(i, g, f, t);  // owners stored after i
+    for (; g < g_end; ++g) {  // owners stored after i
+      const std::int32_t e = gcode[g] >> 2;
+      f += ps[e].force;
+      t += ps[e].moment_axis;
+    }
+    fout[i] = f;
+    tout[i] = t;
   };
   SplitSums* split = &split_;
-  // Thread t's completions after the barrier (split_sums.h), the pair
-  // states of the particles kPrefetchParticles ahead prefetched: its edge
-  // particles gathered again (`gather`: gather_sphere or gather_spheroid),
-  // then its tails, the pair loop's sum plus the slots from the first owned
-  // in a higher run (`finish`: finish_sphere or finish_spheroid).
-  const auto complete = [&](int t, const auto& gather, const auto& finish) {
-    const std::size_t ahead = static_cast<std::size_t>(kPrefetchParticles);
-    const std::vector<std::int32_t>& edge = split->edge_particles(t);
-    const std::size_t ne = edge.size();
-    for (std::size_t k = 0; k < ne; ++k) {
-      if (k + ahead < ne) prefetch_slots(edge[k + ahead], goff[edge[k + ahead]]);
-      gather(edge[k]);
-    }
-    const std::vector<SplitSums::Tail>& tails = split->edge_tails(t);
-    const std::size_t nt = tails.size();
-    for (std::size_t k = 0; k < nt; ++k) {
-      if (k + ahead < nt) prefetch_slots(tails[k + ahead].particle, tails[k + ahead].slot);
-      const std::int32_t i = tails[k].particle;
-      finish(i, tails[k].slot, fout[i], tout[i]);
-    }
-  };
   ThreadRuns* runs = &runs_;
   // The plan is checked before the team forms, so that every thread takes
   // the same path (a team smaller than planned remakes it).
   const int planned_team = omp_get_max_threads();
   const bool plan_current = runs_.current(nchunks, n, planned_team) && split_.current(list, n, runs_);
   bool plan_used = false;  // set by a team of several
-  // Spheres on a team: each thread's ghost springs follow on from the last
-  // compute() only when that was a team's with this plan; else they are
-  // taken from the list (where the owners keep them) before the pair loops.
-  const bool ghosts_follow = !spheroids && ghosts_follow_;
-  std::vector<std::vector<Vec3>>* ghost_springs = &ghost_springs_;
-  const Vec3* list_springs = pd.spring.data();
+  // On a team, each thread's ghosts (split_sums.h) follow on from the last
+  // compute() only when that was a team's with this plan; else their
+  // per-entry state is taken from the list (where the owners keep it)
+  // before the pair loops.
+  const bool ghosts_follow = ghosts_follow_;
+  std::vector<GhostPairs>* ghost_pairs = &ghost_pairs_;
   const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
   // in list order (or the gather after it). Several (split_sums.h): each
-  // thread's pair loop sums its run's particles, barrier, then the
-  // particles with terms of pairs owned in other runs are completed,
-  // shared among the threads: edge particles gathered again, tails added.
+  // thread's pair loop sums its run's particles, with the pairs owned in
+  // other runs whose partner is home evaluated again as ghosts, before
+  // and after its chunks.
 #pragma omp parallel
   {
     Scratch& mine = scratch[omp_get_thread_num()];
@@ -243,23 +244,16 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs
       // and the sums, so it mostly reads the particles it wrote itself.
-      // The runs are cut by the time before the barrier; the completions
-      // after it are shared by slots (split_sums.h).
-      if (!plan_current || team != planned_team || (!spheroids && !ghosts_follow)) {
+      // The runs are cut by the time of that work (split_sums.h).
+      if (!plan_current || team != planned_team || !ghosts_follow) {
 #pragma omp single
         {
           const double planning = omp_get_wtime();
           runs->prepare(nchunks, n, team);
           split->prepare(list, n, *runs);
-          if (!spheroids) {  // the ghosts' springs from their owners' entries
-            ghost_springs->resize(static_cast<std::size_t>(team));
-            for (int g = 0; g < team; ++g) {
-              const std::vector<std::int32_t>& entries = split->ghosts(g);
-              std::vector<Vec3>& springs = (*ghost_springs)[static_cast<std::size_t>(g)];
-              springs.resize(entries.size());
-              for (std::size_t k = 0; k < entries.size(); ++k) springs[k] = list_springs[entries[k]];
-            }
-          }
+          ghost_pairs->resize(static_cast<std::size_t>(team));
+          for (int g = 0; g < team; ++g)
+            (*ghost_pairs)[static_cast<std::size_t>(g)].take(list, split->ghosts(g), split->ghosts_lower(g));
           phases->add(omp_get_thread_num(), PhaseTimes::Prepare, omp_get_wtime() - planning);
         }
         // (implicit barrier: the plan is ready)
@@ -286,36 +280,33 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       own.torque_out = tout;
       own.own_begin = i0;
       own.own_span = static_cast<std::uint32_t>(i1 - i0);
-      // spheres: the ghosts owned in lower runs, the run's chunks, the
-      // ghosts owned in higher runs (each home particle's terms in list
-      // order, so its sums are done when this thread's pair loop is)
-      const std::vector<std::int32_t>& ghosts = split->ghosts(t);
-      const auto run_ghosts = [&](std::size_t k0, std::size_t k1) {
-        if (k1 <= k0) return;
-        Vec3* springs = (*ghost_springs)[static_cast<std::size_t>(t)].data();
-        mine.reserve(k1 - k0);
-        ghost_kernel(own, ghosts.data() + k0, static_cast<std::int32_t>(k1 - k0), springs + k0, mine.entry.data(),
-                     mine.branch.data(), mine.dist2.data());
+      // the ghosts owned in lower runs, the run's chunks, the ghosts owned
+      // in higher runs: each home particle's terms in list order, so its
+      // sums are done when this thread's pair loop is (split_sums.h). A
+      // ghost is the pair kernel itself on the thread's copies of the
+      // entries (GhostPairs: a list of two "owners", the lower and the
+      // higher ghosts), adding to its home partners only; its sums are
+      // the owner's to count.
+      GhostPairs& mine_ghosts = (*ghost_pairs)[static_cast<std::size_t>(t)];
+      PairInputs ghosts = own;
+      mine_ghosts.point(ghosts);
+      mine.reserve(mine_ghosts.owner.size());
+      const auto run_ghosts = [&](std::int32_t part) {
+        kernel(ghosts, part, part + 1, mine.entry.data(), mine.separated.data(), mine.branch.data(),
+               mine.dist2.data());
       };
-      if (!spheroids) run_ghosts(0, split->ghosts_lower(t));
+      run_ghosts(0);
       for (std::int32_t c = c0; c < c1; ++c) evaluate_chunk(own, c);
-      if (!spheroids) run_ghosts(split->ghosts_lower(t), ghosts.size());
+      run_ghosts(1);
       const double paired = omp_get_wtime() - pairs_start;
       runs->record(t, prepared + paired);
       phases->add(t, PhaseTimes::Prepare, prepared);
       phases->add(t, PhaseTimes::Pairs, paired);
-      if (spheroids) {
-#pragma omp barrier
-        // (every run's pair states are in: the completions, split_sums.h)
-        const double summing = omp_get_wtime();
-        complete(t, gather_spheroid, finish_spheroid);
-        phases->add(t, PhaseTimes::Sums, omp_get_wtime() - summing);
-      }
     }
   }
   phases_.add_region(PhaseTimes::ForceRegion, omp_get_wtime() - region_start);
   split_used_ = plan_used;
-  ghosts_follow_ = plan_used && !spheroids;
+  ghosts_follow_ = plan_used;
 
   ContactSums total;
   for (const ContactSums& s : chunk_sums_) total.add(s);

@@ -104,9 +104,9 @@ inline double add_dashpots(double mi, double mj, double a, const HertzMindlin& l
 /// Lane k of a kernel's lanes (fields rv*, wi*, wj*, s*, mi, mj): the motion
 /// of the pair of entry e (owner i, partner j), v_j - v_i, both spins and
 /// its spring; the masses for the viscous dashpots.
-/// (`sp`: the spring; set_motion below takes the entry's in the list.)
 template <bool Viscous, class Lanes>
-inline void set_motion_with(Lanes& L, int k, const PairInputs& in, std::int32_t i, std::int32_t j, const Vec3& sp) {
+inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t e, std::int32_t i, std::int32_t j) {
+  const Vec3 sp = in.spring[e];
   const Vec3 rv = in.vel[j] - in.vel[i];
   L.rvx[k] = rv.x; L.rvy[k] = rv.y; L.rvz[k] = rv.z;
   const Vec3 wi = in.omg[i], wj = in.omg[j];
@@ -117,10 +117,6 @@ inline void set_motion_with(Lanes& L, int k, const PairInputs& in, std::int32_t 
     L.mi[k] = in.mass[i];
     L.mj[k] = in.mass[j];
   }
-}
-template <bool Viscous, class Lanes>
-inline void set_motion(Lanes& L, int k, const PairInputs& in, std::int32_t e, std::int32_t i, std::int32_t j) {
-  set_motion_with<Viscous>(L, k, in, i, j, in.spring[e]);
 }
 
 /// The axis stiffness terms (axis_stiffness_term.h) of a kernel's group of
@@ -209,17 +205,5 @@ PairKernel sphere_pair_kernel(bool measure, bool viscous);
 
 /// Kernel for particles that include spheroids (spheroid_pairs.cpp).
 PairKernel spheroid_pair_kernel(bool measure, bool viscous);
-
-/// The sphere ghost kernel (sphere_pairs.cpp; several threads,
-/// SplitSums::ghosts): evaluates again the `count` entries `entries`
-/// (owned in another thread's run, ascending) with the contact test, lane
-/// set-up and lane code of the sphere kernel, from the springs `springs`
-/// (one per entry, this thread's copies, updated as the owner updates the
-/// list's), and adds each pair's force and moment on its partner (home) to
-/// in.force_out / in.torque_out in that order. Stores nothing in the list
-/// and returns no sums: the owner does both. Scratch as PairKernel's.
-using GhostKernel = void (*)(const PairInputs&, const std::int32_t* entries, std::int32_t count, Vec3* springs,
-                             std::int32_t*, Vec3*, double*);
-GhostKernel sphere_ghost_kernel(bool viscous);
 
 }  // namespace vt::dem::pairs

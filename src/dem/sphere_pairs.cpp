@@ -37,7 +37,7 @@ struct SphereLanes {
 /// The contact of every lane (formulas in contact_forces.h). Not inlined,
 /// so which multiply-adds the compiler fuses here does not depend on the
 /// code around each call (the instantiations of evaluate_pairs with the
-/// same Viscous, and the ghosts of evaluate_ghosts, give the same bits).
+/// same Viscous give the same bits).
 template <bool Viscous>
 __attribute__((noinline)) void sphere_contact_lanes(SphereLanes& L, const Mat3& lgrad, const HertzMindlin& law, double dt,
                                  double viscous_a) {
@@ -87,15 +87,14 @@ inline bool contact_test(const PairInputs& in, const Mat3& h, std::int32_t e, Ve
 /// Lane k of L: the contact of entry e (branch d, |d|^2 = dist2), its
 /// radii, motion and spring.
 template <bool Viscous>
-inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2,
-                     const Vec3& spring) {
+inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e, const Vec3& d, double dist2) {
   const std::int32_t i = in.owner[e];
   const std::int32_t j = in.partner[e];
   L.dx[k] = d.x; L.dy[k] = d.y; L.dz[k] = d.z;
   L.dist2[k] = dist2;
   L.ri[k] = in.rad[i];
   L.rj[k] = in.rad[j];
-  set_motion_with<Viscous>(L, k, in, i, j, spring);
+  set_motion<Viscous>(L, k, in, e, i, j);
 }
 
 /// Pairs owned by particles [i_begin, i_end), i.e. list entries
@@ -149,7 +148,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   // in list order.
   ChunkSums sums;
   StiffnessLanes<kLanes> stiffness;
-  Vec3 sink_f, sink_t;  // the sums of partners that are not home
+  Vec3 sink_f, sink_t;  // the sums of particles that are not home
   SphereLanes L;
   std::int32_t lane_e[kLanes], lane_i[kLanes], lane_j[kLanes];
   for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
@@ -173,7 +172,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       lane_e[k] = e;
       lane_i[k] = in.owner[e];
       lane_j[k] = in.partner[e];
-      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c], in.spring[e]);
+      set_lane<Viscous>(L, k, in, e, c_branch[c], c_dist2[c]);
     }
     sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
     if constexpr (Measure) stiffness.compute(L.dx, L.dy, L.dz, L.fx, L.fy, L.fz, L.hov, law.tangential_ratio());
@@ -188,13 +187,16 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       st.half_overlap = hov;
       store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
       if (in.force_out) {  // the gather's arithmetic, in the gather's order
-        in.force_out[i] -= f;
-        in.torque_out[i] = fused_multiply_add(L.li[k], m, in.torque_out[i]);
-        // a partner of another thread's run: added there, by that
-        // thread's ghost of this pair (split_sums.h, evaluate_ghosts)
-        const bool home = in.home(j);
-        Vec3& fj = home ? in.force_out[j] : sink_f;
-        Vec3& tj = home ? in.torque_out[j] : sink_t;
+        // a particle of another thread's run (the owner of a ghost, the
+        // partner of a pair crossing the runs): summed there, by that
+        // thread's pair loop or its ghost of this pair (split_sums.h)
+        const bool home_i = in.home(i), home_j = in.home(j);
+        Vec3& fi = home_i ? in.force_out[i] : sink_f;
+        Vec3& ti = home_i ? in.torque_out[i] : sink_t;
+        fi -= f;
+        ti = fused_multiply_add(L.li[k], m, ti);
+        Vec3& fj = home_j ? in.force_out[j] : sink_f;
+        Vec3& tj = home_j ? in.torque_out[j] : sink_t;
         fj += f;
         tj = fused_multiply_add(L.lj[k], m, tj);
       }
@@ -206,52 +208,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
   return sums.finish(nc);
 }
 
-/// The ghost kernel (pair_kernel.h, GhostKernel): contact_test, set_lane
-/// and sphere_contact_lanes as evaluate_pairs, so each ghost's force, moment
-/// and new spring are its owner's bit for bit; a ghost out of contact
-/// keeps a zero spring, as its owner's entry (cleared when it leaves).
-template <bool Viscous>
-void evaluate_ghosts(const PairInputs& in, const std::int32_t* entries, std::int32_t count, Vec3* springs,
-                     std::int32_t* c_index, Vec3* c_branch, double* c_dist2) {
-  const Mat3 h = in.h, lgrad = in.lgrad;
-  const HertzMindlin law = in.law;
-  const double dt = in.dt;
-  std::int32_t nc = 0;
-  for (std::int32_t k = 0; k < count; ++k) {
-    Vec3 d;
-    double dist2;
-    const bool touching = contact_test(in, h, entries[k], d, dist2);
-    if (!touching) springs[k] = Vec3{};
-    c_index[nc] = k;
-    store(c_branch[nc], d);
-    c_dist2[nc] = dist2;
-    nc += touching ? 1 : 0;
-  }
-  SphereLanes L;
-  std::int32_t lane_k[kLanes], lane_j[kLanes];
-  for (std::int32_t c0 = 0; c0 < nc; c0 += kLanes) {
-    const int lanes = static_cast<int>(std::min<std::int32_t>(kLanes, nc - c0));
-    for (int q = 0; q < kLanes; ++q) {
-      const std::int32_t c = c0 + (q < lanes ? q : 0);
-      const std::int32_t k = c_index[c];
-      const std::int32_t e = entries[k];
-      lane_k[q] = k;
-      lane_j[q] = in.partner[e];
-      set_lane<Viscous>(L, q, in, e, c_branch[c], c_dist2[c], springs[k]);  // this thread's copy of the spring
-    }
-    sphere_contact_lanes<Viscous>(L, lgrad, law, dt, in.viscous_a);
-    for (int q = 0; q < lanes; ++q) {
-      const std::int32_t j = lane_j[q];
-      store(springs[lane_k[q]], Vec3{L.sx[q], L.sy[q], L.sz[q]});
-      in.force_out[j] += Vec3{L.fx[q], L.fy[q], L.fz[q]};
-      in.torque_out[j] = fused_multiply_add(L.lj[q], Vec3{L.mx[q], L.my[q], L.mz[q]}, in.torque_out[j]);
-    }
-  }
-}
-
 }  // namespace
-
-GhostKernel sphere_ghost_kernel(bool viscous) { return viscous ? &evaluate_ghosts<true> : &evaluate_ghosts<false>; }
 
 PairKernel sphere_pair_kernel(bool measure, bool viscous) {
   if (viscous) return measure ? &evaluate_pairs<true, true> : &evaluate_pairs<false, true>;

@@ -303,7 +303,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
   stats.asleep = static_cast<std::uint64_t>(slept);
   std::int64_t contacts = 0;
   PairGroup g;
-  Vec3 sink_f, sink_t;  // the sums of partners that are not home
+  Vec3 sink_f, sink_t;  // the sums of particles that are not home
   const double tolerance = SpheroidContactOptions{}.step_tolerance;
   // A pair in reach and not in contact: cleared, and asleep on half its gap
   // less a floor for the rounding of g (~eps (a_i + a_j)) and of the clock
@@ -383,13 +383,15 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       store(lane_in.sph[e].torque_i, mi);
       lane_in.active[e] = 1;
       if (lane_in.force_out) {  // the gather's arithmetic, in the gather's order
-        lane_in.force_out[i] -= f;
-        lane_in.torque_out[i] += mi;
-        // a partner of another thread's run: completed after the pair
-        // loops (SplitSums::edge_particles, edge_tails)
-        const bool home = lane_in.home(j);
-        Vec3& fj = home ? lane_in.force_out[j] : sink_f;
-        Vec3& tj = home ? lane_in.torque_out[j] : sink_t;
+        // a particle of another thread's run (the owner of a ghost, the
+        // partner of a pair crossing the runs): summed there (split_sums.h)
+        const bool home_i = lane_in.home(i), home_j = lane_in.home(j);
+        Vec3& fi = home_i ? lane_in.force_out[i] : sink_f;
+        Vec3& ti = home_i ? lane_in.torque_out[i] : sink_t;
+        fi -= f;
+        ti += mi;
+        Vec3& fj = home_j ? lane_in.force_out[j] : sink_f;
+        Vec3& tj = home_j ? lane_in.torque_out[j] : sink_t;
         fj += f;
         tj += mj;
       }

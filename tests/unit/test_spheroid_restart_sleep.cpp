@@ -88,9 +88,9 @@ TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
 TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
   // 2 x 2 x 2 tiles of the loaded packing, sorted in space: 2400 spheroids
   // in 5 chunks, so two and three threads take runs of whole chunks with
-  // pairs crossing them; each thread's pair loop sums its run and the
-  // particles of the crossing pairs are completed after every run's pairs
-  // are in (SplitSums::edge_particles, edge_tails).
+  // pairs crossing them; each thread's pair loop sums its run, the pairs
+  // owned in other runs evaluated again as ghosts (SplitSums::ghosts, with
+  // the thread's own copies of their solver caches and wake times).
   const SimulationState start =
       vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
   const std::size_t n = start.particles.size();
@@ -99,10 +99,9 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
   omp_set_num_threads(1);
   Simulation one(start);
   ASSERT_EQ(one.run(200), 200) << one.failure();
-  // edge particles of two and three runs (gathered again or completed by
-  // their tails, split_sums.h; which is which: test_split_sums): exactly
-  // each run's partners of pairs owned in another run; the crossings hold
-  // contacts, and their particles are few
+  // the ghosts of two and three runs (split_sums.h; their order:
+  // test_split_sums): exactly the pairs owned in another run than their
+  // partner's; the crossings hold contacts, and their particles are few
   const NeighborList& list = one.neighbor_list();
   for (const int threads : {2, 3}) {
     ThreadRuns runs;
@@ -116,25 +115,23 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
              p < std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize); ++p)
           run_of[p] = t;
     std::size_t crossing_contacts = 0;
-    std::vector<std::int32_t> expected, planned;
+    std::vector<std::int32_t> expected, planned, cut;
     for (std::size_t e = 0; e < list.pairs().size(); ++e) {
       const std::int32_t p = list.pairs().partner[e];
       if (run_of[static_cast<std::size_t>(p)] == run_of[static_cast<std::size_t>(list.owners()[e])]) continue;
-      expected.push_back(p);
+      expected.push_back(static_cast<std::int32_t>(e));
+      cut.push_back(p);
       crossing_contacts += list.pairs().active[e];
     }
-    std::sort(expected.begin(), expected.end());
-    expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
-    for (int t = 0; t < threads; ++t) {
-      planned.insert(planned.end(), plan.edge_particles(t).begin(), plan.edge_particles(t).end());
-      for (const SplitSums::Tail& x : plan.edge_tails(t)) planned.push_back(x.particle);
-    }
+    std::sort(cut.begin(), cut.end());
+    cut.erase(std::unique(cut.begin(), cut.end()), cut.end());
+    for (int t = 0; t < threads; ++t) planned.insert(planned.end(), plan.ghosts(t).begin(), plan.ghosts(t).end());
     std::sort(planned.begin(), planned.end());
     EXPECT_EQ(planned, expected) << threads << " runs";
-    const std::size_t edge = planned.size();
+    EXPECT_EQ(plan.cut_count(), cut.size()) << threads << " runs";
     EXPECT_GT(crossing_contacts, 0u) << threads << " runs";
-    EXPECT_GT(edge, 0u) << threads << " runs";
-    EXPECT_LT(edge, n / 2) << "most particles are summed by their thread's pair loop alone";
+    EXPECT_GT(cut.size(), 0u) << threads << " runs";
+    EXPECT_LT(cut.size(), n / 2) << "most particles are summed by their thread's pair loop alone";
   }
   for (const int threads : {2, 3}) {
     omp_set_num_threads(threads);
@@ -142,6 +139,26 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
     ASSERT_EQ(more.run(200), 200) << more.failure();
     expect_same_state(one.state(), more.state());
   }
+}
+
+// Thread counts switched mid-run (as the run-time governor does), back to a
+// count whose plan is kept after one-thread steps: each thread's ghost
+// copies (springs, solver caches, wake times) are taken from the list
+// again, and the run is the one-thread run bit for bit.
+TEST(SpheroidRestart, SwitchingThreadCountsMidRunKeepsTheBits) {
+  const SimulationState start =
+      vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
+  vt::test::RestoreThreads restore;
+  omp_set_num_threads(1);
+  Simulation one(start);
+  ASSERT_EQ(one.run(210), 210) << one.failure();
+  Simulation switched(start);
+  for (int threads : {2, 1, 2, 3, 1, 3, 2}) {
+    omp_set_num_threads(threads);
+    ASSERT_EQ(switched.run(30), 30) << switched.failure();
+    EXPECT_EQ(switched.split_used(), threads > 1);
+  }
+  expect_same_state(one.state(), switched.state());
 }
 
 namespace {

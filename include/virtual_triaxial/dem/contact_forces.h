@@ -16,13 +16,10 @@
 //     ask for the gather below instead, for A/B);
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
 //     by measured speed) and sums its run's particles in its own pair loop;
-//     spheres: the pairs owned in other runs whose partner is home are
-//     evaluated again by it as ghosts, before and after its chunks, from
-//     its own copies of their springs; spheroids: after a barrier the
-//     partners of pairs owned in a lower run are gathered again and the
-//     terms of pairs owned in higher runs are added from their pair states
-//     to the others (tails); either way the order stays the list's
-//     (split_sums.h); no gather of every particle.
+//     the pairs owned in other runs whose partner is home are evaluated
+//     again by it as ghosts, before and after its chunks (the pair kernel
+//     itself, on its own copies of their per-entry state), so that the
+//     order stays the list's (split_sums.h); no gather of every particle.
 // Same terms, same order, same bits (the torque terms use fused_multiply_add
 // so that compiler contraction cannot differ between them). The sums
 // therefore depend on the storage order (fixed during a run) but not on the
@@ -68,13 +65,12 @@
 // store-forwarding stall). On one thread there is no gather (its scattered
 // reads of other particles' pair states were the step's largest cost growth
 // with N, and it costs 12 % even where they fit the L2 cache); on several
-// threads the sphere pairs that cross the runs are evaluated twice (ghosts,
-// split_sums.h: no pair state is read by another thread; 0.869 of the
-// time of the completions below at 12 000 dense spheres with the host's
-// two vCPUs far apart, 1.002 near, session 36), and for spheroids the
-// particles of pairs that cross the runs are completed after a barrier:
-// the partners of pairs owned in a lower run gathered again, the terms of
-// pairs owned in higher runs added from their pair states (tails).
+// threads the pairs that cross the runs are evaluated twice (ghosts,
+// split_sums.h: no pair state is read by another thread; against the
+// completions from the pair states that sessions 16-35 made after a
+// barrier, at 12 000 dense particles on two threads with the host's two
+// vCPUs far apart 0.889 of the time for spheres and 0.915 for spheroids,
+// near 1.020 and 1.011, session 36).
 // The order of every sum is the one of the plain loops (list order for the
 // chunk sums and per particle), so the results do not depend on these
 // choices.
@@ -90,13 +86,8 @@
 // the particle's own, consecutive entries). The warm solves and the contact
 // law run 16 pairs at a time as SIMD (spheroid_warm_lanes.h,
 // spheroid_pairs.cpp). Several threads take the thread runs as for
-// spheres (support data included); each thread's pair loop sums its run's
-// particles as on one thread, and after a barrier only the particles of
-// pairs that cross runs are completed (SplitSums::edge_particles gather
-// again, edge_tails add the terms of higher runs; session 16:
-// gathering every particle was 17 % of a two-thread run's CPU at 12 000
-// spheroids, now 8 %; 0.954x the time, median of 20 interleaved rounds).
-// Spheres took the same completions in sessions 21-35 (ghosts since 36).
+// spheres (support data included, a barrier after it) and the same ghosts
+// (their copies include the solver caches and wake times).
 #pragma once
 
 #include <cstddef>
@@ -114,6 +105,10 @@
 #include "virtual_triaxial/dem/viscous_contact_damping.h"
 
 namespace vt::dem {
+
+namespace pairs {
+struct PairInputs;  // src/dem/pair_kernel.h
+}
 
 /// Sums over all contacts of one force evaluation.
 struct ContactSums {
@@ -177,22 +172,17 @@ class ContactForces {
   void set_viscous_damping(const ViscousContactDamping& d);
   std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
   /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several: each thread's pair loop and, after a barrier, the completions
-  /// of the sums of particles with pairs crossing runs, split_sums.h).
+  /// several: each thread's pair loop with its ghosts, split_sums.h).
   bool summed_in_pair_loop() const { return pair_loop_sums_; }
-  /// On several threads: the particles the last compute() gathered again
-  /// (edge particles) and completed with tails (split_sums.h); 0 otherwise.
-  std::size_t split_edges() const { return split_used_ ? split_.edge_count() : 0; }
-  std::size_t split_tails() const { return split_used_ ? split_.tail_count() : 0; }
-  /// On several threads with spheres: the pairs the last compute()
-  /// evaluated twice, once by their owner's thread and once, as a ghost,
-  /// by their partner's (SplitSums::ghosts); 0 otherwise.
+  /// On several threads: the pairs the last compute() evaluated twice,
+  /// once by their owner's thread and once, as a ghost, by their
+  /// partner's (SplitSums::ghosts); 0 otherwise.
   std::size_t ghost_pairs() const { return split_used_ ? split_.ghost_count() : 0; }
   /// On several threads: the particles with a pair owned in another run
   /// (SplitSums::cut_count); 0 otherwise.
   std::size_t cut_particles() const { return split_used_ ? split_.cut_count() : 0; }
   /// Whether the last compute() ran on several threads (each thread's pair
-  /// loop, then the completions, split_sums.h).
+  /// loop with its ghosts, split_sums.h).
   bool split_used() const { return split_used_; }
   /// The runs of chunks per thread of the pair loop, which the integrator
   /// shares (LeapfrogIntegrator::advance) and whose owner calls end_step().
@@ -222,15 +212,28 @@ class ContactForces {
   std::size_t pair_loop_bytes_ = 0;
   bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
-  SplitSums split_;                      ///< several threads: edge particles and tails
+  SplitSums split_;                      ///< several threads: the ghosts
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)
   PhaseTimes phases_;                    ///< where the time goes, per thread (pair loop and integrator)
   bool split_used_ = false;              ///< the last compute() used split_
-  /// Spheres on several threads: each thread's copies of its ghosts'
-  /// springs (by SplitSums::ghosts index), which follow on from the last
-  /// compute() when that was a team's with the same plan (ghosts_follow_);
-  /// otherwise refilled from the list first.
-  std::vector<std::vector<Vec3>> ghost_springs_;
+  /// Several threads: each thread's ghosts (SplitSums::ghosts) as a list
+  /// of their own for the pair kernel: two "owners" (0: the ghosts owned in
+  /// lower runs, 1: in higher runs; off), each entry's real owner and
+  /// partner, and copies of its per-entry state, which follow on from the
+  /// last compute() when that was a team's with the same plan
+  /// (ghosts_follow_), otherwise taken from the list first (take).
+  struct GhostPairs {
+    std::vector<std::int32_t> off, owner, partner;
+    std::vector<Vec3> spring;
+    std::vector<PairState> state;
+    std::vector<std::uint8_t> active;
+    std::vector<SpheroidPairState> spheroid;  ///< empty unless the list has spheroids
+    /// Copies of the list's entries `entries`, the first `lower` owned in lower runs.
+    void take(const NeighborList& list, const std::vector<std::int32_t>& entries, std::size_t lower);
+    /// Points `in`'s list fields at these (off, owner, partner, per-entry state).
+    void point(pairs::PairInputs& in);
+  };
+  std::vector<GhostPairs> ghost_pairs_;
   bool ghosts_follow_ = false;
 };
 

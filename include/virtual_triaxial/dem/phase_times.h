@@ -17,14 +17,13 @@
 //   Prepare   zeroing the thread's force and torque sums (several threads;
 //             one thread zeroes them before the region, untimed); spheroids:
 //             their support data (SpheroidSupport) for this evaluation; several
-//             threads: the plan of runs and ghosts or completions when it
-//             is remade, and the ghosts' springs taken from the list (one
-//             thread does it while the others wait)
-//   Pairs     the thread's own pair loop (its run of chunks; spheres on
-//             several threads: with its ghosts, split_sums.h)
-//   Sums      the gather (one thread, gather mode); spheroids on several
-//             threads: after the barrier, the thread's share of the
-//             completions (edge gathers and tails, split_sums.h)
+//             threads: the plan of runs and ghosts when it is remade, and
+//             the ghosts' per-entry state taken from the list (one thread
+//             does it while the others wait)
+//   Pairs     the thread's own pair loop (its run of chunks; on several
+//             threads with its ghosts, split_sums.h)
+//   Sums      the gather (one thread, gather mode; several threads have
+//             nothing to add after their pair loops since session 36)
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
 // Waits, step by step (add_region, once per region and step, serially):
 // with b_t the busy seconds thread t added since the last add_region (this
@@ -36,8 +35,8 @@
 // overhead (when every thread was in every team). Imbalance is what the
 // threads lost waiting for the slowest at the region's end; overhead is
 // forming and joining the team, the timing and, in a region with barriers
-// inside (the force region on several threads: before the completions,
-// and for spheroids after the support data), the waits at those barriers
+// inside (the force region of spheroids on several threads: after the
+// support data), the waits at those barriers
 // beyond that lead (a barrier's slowest thread need not be the region's).
 // The part of the imbalance a better fixed cut of the runs could recover is
 //   steady_imbalance(r) = max_t B_t - mean_t B_t, B_t = sum of b_t   [s];

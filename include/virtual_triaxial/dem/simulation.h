@@ -146,11 +146,6 @@ class Simulation {
   /// set_pair_loop_sum_threshold); results are bit-identical either way.
   void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
   bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
-  /// Several threads, last step: the particles gathered again (edge
-  /// particles) and completed with tails after the pair loops
-  /// (split_sums.h). 0 on one thread.
-  std::size_t split_edges() const { return contact_forces_.split_edges(); }
-  std::size_t split_tails() const { return contact_forces_.split_tails(); }
   /// Pairs evaluated twice on several threads (spheres: ghosts, ContactForces::ghost_pairs).
   std::size_t ghost_pairs() const { return contact_forces_.ghost_pairs(); }
   /// Particles with a pair owned in another thread's run (ContactForces::cut_particles).

@@ -6,9 +6,9 @@
 //
 // Thread t of T takes chunks [b_t, b_t+1). Start, and whenever the chunk
 // count, N or T changes: equal runs (chunk_run, chunked.h). Every step each
-// thread adds the wall time it spent on its own run (record; not its waits
-// at barriers, nor the completions of the sums it shares after the pair
-// loops' barrier, split_sums.h, which do not depend on the runs). A window
+// thread adds the wall time it spent on its own run (record: its pair loop
+// with its ghosts, split_sums.h, and its integration; not its waits at
+// barriers). A window
 // closes after at least kWindowSteps steps with at least kWindowSeconds of
 // work on the busiest thread; then, with
 // P_t the particles of run t and B_t its busy time, the speed is
