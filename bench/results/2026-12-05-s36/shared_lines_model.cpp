@@ -1,3 +1,7 @@
+// Session 36 experiment E2 (bench/results/2026-12-05-s36/experiments.txt), not built by the project:
+// written against commit a095390 (SplitSums with edge particles and tails, since replaced by ghosts);
+// g++ -O2 -std=c++17 -fopenmp -march=native -Iinclude -I/usr/include/eigen3 -I/usr/include/hdf5/serial
+//   shared_lines_model.cpp -Lbuild/devel/lib -lvt_dem -lvt_io
 // Model: cache lines that change cores per step on two threads (MESI-like, infinite caches).
 #include <omp.h>
 #include <cstdio>
