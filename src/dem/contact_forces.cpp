@@ -121,7 +121,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const std::int32_t ni = static_cast<std::int32_t>(n);
 
   // One thread and a team of several alike (a team's kernels sum no
-  // partner outside the thread's run: PairInputs::home).
+  // particle outside the thread's run, owner or partner: PairInputs::home;
+  // the ghosts run the same kernel, split_sums.h).
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
 
@@ -262,9 +263,8 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       if (t == 0) plan_used = true;
       const auto [c0, c1] = runs->run(t);
       const double start = omp_get_wtime();
-      // home: particles [i0, i1); the pair loop sums them as on one
-      // thread, and those with a pair crossing runs are completed once
-      // every run's pairs are in
+      // home: particles [i0, i1); the pair loop, with the ghosts of the
+      // pairs owned in other runs, sums them in the one-thread order
       const std::int32_t i0 = std::min(ni, c0 * kChunkSize), i1 = std::min(ni, c1 * kChunkSize);
       if (spheroids) refresh_bodies(i0, i1);
       std::fill(fout + i0, fout + i1, Vec3{});

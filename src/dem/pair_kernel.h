@@ -71,10 +71,10 @@ struct PairInputs {
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
   const double* mass;
   double viscous_a;
-  // Several threads (both kernels): partners outside particles [own_begin,
-  // own_begin + own_span) take no sum here (their sums are completed after
-  // the pair loops' barrier, from the pair states, split_sums.h). One
-  // thread: every partner is home (the defaults).
+  // Several threads (both kernels): particles outside [own_begin,
+  // own_begin + own_span), owner or partner, take no sum here (their own
+  // thread sums them, with its ghost of the pair when it is the partner's,
+  // split_sums.h). One thread: every particle is home (the defaults).
   std::int32_t own_begin = 0;
   std::uint32_t own_span = UINT32_MAX;
   /// Whether particle j is summed here (in [own_begin, own_begin + own_span)).

@@ -176,6 +176,9 @@ class NeighborList {
   /// state at every sample). Not for concurrent calls on one list.
   void histories_into(const Particles& p, std::vector<ContactHistory>& out, bool sorted = true) const;
   /// Restore springs after build(); unknown pairs are reported by count.
+  /// Only on a list no team of threads has evaluated since its build: the
+  /// threads' ghost copies of per-entry state follow on from their last
+  /// evaluation (split_sums.h) and would not see it.
   std::size_t restore(const Particles& p, const std::vector<ContactHistory>& h);
 
  private:

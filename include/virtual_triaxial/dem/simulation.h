@@ -146,7 +146,7 @@ class Simulation {
   /// set_pair_loop_sum_threshold); results are bit-identical either way.
   void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
   bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
-  /// Pairs evaluated twice on several threads (spheres: ghosts, ContactForces::ghost_pairs).
+  /// Pairs evaluated twice on several threads (ghosts, ContactForces::ghost_pairs).
   std::size_t ghost_pairs() const { return contact_forces_.ghost_pairs(); }
   /// Particles with a pair owned in another thread's run (ContactForces::cut_particles).
   std::size_t cut_particles() const { return contact_forces_.cut_particles(); }

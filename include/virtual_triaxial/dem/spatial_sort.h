@@ -27,8 +27,9 @@
 // miss to memory. Several threads take consecutive runs of storage, i.e.
 // slabs that meet across planes normal to the slab axis: slabbing across
 // the cell's longest axis makes those planes, and the pairs that cross the
-// threads' runs, the fewest (12 000 spheres tiled 3x2x2: 560 edge particles
-// and 497 tails instead of 819 and 856 with slabs across the shorter s_3).
+// threads' runs, the fewest (12 000 spheres tiled 3x2x2: 1057 particles at
+// the cut, then counted as 560 edge particles and 497 tails, instead of
+// 819 + 856 with slabs across the shorter s_3).
 // Measured interleaved (bench/ab_builds.sh as fixed in session 25, us per
 // particle-step; bench/results/2026-12-03-s25/experiments.txt R1), Morton
 // -> slabs across the longest axis: 10^5 spheres 0.945x and 0.964x on one

@@ -22,7 +22,17 @@
 // list when a plan starts or the last step was not a team's with this
 // plan), so its force, moments and new state are the owner's bit for bit;
 // it adds only to its home partner, and only the owner stores into the
-// list and counts the chunk sums. The pair states then never change
+// list and counts the chunk sums. Two assumptions this rests on: (1) a
+// pair's results depend on its own inputs only, not on which lane or
+// group of the kernels' SIMD loops takes it (a ghost sits in other groups
+// than its owner's entry): the lane loops have fixed trip counts, unused
+// lanes repeat a used one, and no loop has a scalar peel or epilogue that
+// would treat some lanes apart; (2) the list's per-entry state changes
+// only in compute() or by a rebuild (which makes a new plan):
+// NeighborList::restore writes springs and caches without a rebuild, so
+// it may only be called on a list no team has evaluated since its build
+// (today: Simulation's constructor and specimen_snapshot, both on a fresh
+// list). The pair states then never change
 // cores: only the particles' positions, velocities and spins (and, for
 // spheroids, their support data) at the cut do. The sums therefore depend
 // neither on the thread count nor on the runs.
