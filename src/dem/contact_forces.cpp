@@ -39,24 +39,21 @@ void ContactForces::Scratch::reserve(std::size_t n) {
 using pairs::PairInputs;
 using pairs::kPrefetchParticles;
 
-void ContactForces::GhostPairs::take(const NeighborList& list, const std::vector<std::int32_t>& entries,
+void ContactForces::GhostPairs::take(const NeighborList& list, const std::vector<std::int32_t>& ghosts,
                                      std::size_t lower) {
   const PairData& pd = list.pairs();
-  const std::size_t count = entries.size();
+  const std::size_t count = ghosts.size();
+  const bool spheroids = !pd.spheroid.empty();
   owner.resize(count);
-  partner.resize(count);
-  spring.resize(count);
-  state.resize(count);
-  active.resize(count);
-  spheroid.resize(pd.spheroid.empty() ? 0 : count);
+  entries.resize(count, spheroids);
   for (std::size_t k = 0; k < count; ++k) {
-    const auto e = static_cast<std::size_t>(entries[k]);
+    const auto e = static_cast<std::size_t>(ghosts[k]);
     owner[k] = list.owners()[e];
-    partner[k] = pd.partner[e];
-    spring[k] = pd.spring[e];
-    state[k] = pd.state[e];
-    active[k] = pd.active[e];
-    if (!spheroid.empty()) spheroid[k] = pd.spheroid[e];
+    entries.partner[k] = pd.partner[e];
+    entries.spring[k] = pd.spring[e];
+    entries.state[k] = pd.state[e];
+    entries.active[k] = pd.active[e];
+    if (spheroids) entries.spheroid[k] = pd.spheroid[e];
   }
   off = {0, static_cast<std::int32_t>(lower), static_cast<std::int32_t>(count)};
 }
@@ -64,11 +61,11 @@ void ContactForces::GhostPairs::take(const NeighborList& list, const std::vector
 void ContactForces::GhostPairs::point(PairInputs& in) {
   in.off = off.data();
   in.owner = owner.data();
-  in.partner = partner.data();
-  in.spring = spring.data();
-  in.state = state.data();
-  in.active = active.data();
-  in.sph = spheroid.empty() ? nullptr : spheroid.data();
+  in.partner = entries.partner.data();
+  in.spring = entries.spring.data();
+  in.state = entries.state.data();
+  in.active = entries.active.data();
+  in.sph = entries.spheroid.empty() ? nullptr : entries.spheroid.data();
 }
 
 void ContactForces::set_viscous_damping(const ViscousContactDamping& d) { viscous_a_ = d.coefficient(); }
@@ -246,6 +243,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       // of the integrator too) for the spheroids' support data, the pairs
       // and the sums, so it mostly reads the particles it wrote itself.
       // The runs are cut by the time of that work (split_sums.h).
+      const int t = omp_get_thread_num();
       if (!plan_current || team != planned_team || !ghosts_follow) {
 #pragma omp single
         {
@@ -253,13 +251,16 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
           runs->prepare(nchunks, n, team);
           split->prepare(list, n, *runs);
           ghost_pairs->resize(static_cast<std::size_t>(team));
-          for (int g = 0; g < team; ++g)
-            (*ghost_pairs)[static_cast<std::size_t>(g)].take(list, split->ghosts(g), split->ghosts_lower(g));
-          phases->add(omp_get_thread_num(), PhaseTimes::Prepare, omp_get_wtime() - planning);
+          phases->add(t, PhaseTimes::Prepare, omp_get_wtime() - planning);
         }
-        // (implicit barrier: the plan is ready)
+        // (implicit barrier: the plan is ready) each thread's ghosts from
+        // the list, by the thread itself (its cache), before any pair loop
+        // writes the list
+        const double taking = omp_get_wtime();
+        (*ghost_pairs)[static_cast<std::size_t>(t)].take(list, split->ghosts(t), split->ghosts_lower(t));
+        phases->add(t, PhaseTimes::Prepare, omp_get_wtime() - taking);
+#pragma omp barrier
       }
-      const int t = omp_get_thread_num();
       if (t == 0) plan_used = true;
       const auto [c0, c1] = runs->run(t);
       const double start = omp_get_wtime();

@@ -12,6 +12,7 @@
 
 #include "support/scenes.h"
 #include "support/state_compare.h"
+#include "support/thread_switching.h"
 #include "virtual_triaxial/io/sample_file.h"
 #include "virtual_triaxial/dem/simulation.h"
 
@@ -131,17 +132,5 @@ TEST(Restart, SplitSumsWithContactDashpotsGiveTheOneThreadBits) {
 // is remade or kept as the count changes, and the run is the one-thread run
 // bit for bit.
 TEST(Restart, SwitchingThreadCountsMidRunKeepsTheBits) {
-  const SimulationState start = vt::test::spatially_sorted(loaded_packing(1600));
-  omp_set_num_threads(1);
-  Simulation one(start);
-  ASSERT_EQ(one.run(350), 350) << one.failure();
-  Simulation switched(start);
-  // back to the same count after one-thread steps: the same runs and plan
-  for (int threads : {2, 1, 2, 3, 1, 3, 2}) {
-    omp_set_num_threads(threads);
-    ASSERT_EQ(switched.run(50), 50) << switched.failure();
-    EXPECT_EQ(switched.split_used(), threads > 1);
-  }
-  omp_set_num_threads(omp_get_num_procs());
-  expect_same_state(one.state(), switched.state());
+  vt::test::expect_switching_threads_keeps_the_bits(vt::test::spatially_sorted(loaded_packing(1600)), 50);
 }

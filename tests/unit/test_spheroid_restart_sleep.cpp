@@ -18,6 +18,7 @@
 #include "support/omp_threads.h"
 #include "support/scenes.h"
 #include "support/spheroid_scenes.h"
+#include "support/thread_switching.h"
 #include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
@@ -146,19 +147,8 @@ TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {
 // copies (springs, solver caches, wake times) are taken from the list
 // again, and the run is the one-thread run bit for bit.
 TEST(SpheroidRestart, SwitchingThreadCountsMidRunKeepsTheBits) {
-  const SimulationState start =
-      vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2));
-  vt::test::RestoreThreads restore;
-  omp_set_num_threads(1);
-  Simulation one(start);
-  ASSERT_EQ(one.run(210), 210) << one.failure();
-  Simulation switched(start);
-  for (int threads : {2, 1, 2, 3, 1, 3, 2}) {
-    omp_set_num_threads(threads);
-    ASSERT_EQ(switched.run(30), 30) << switched.failure();
-    EXPECT_EQ(switched.split_used(), threads > 1);
-  }
-  expect_same_state(one.state(), switched.state());
+  vt::test::expect_switching_threads_keeps_the_bits(
+      vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2)), 30);
 }
 
 namespace {

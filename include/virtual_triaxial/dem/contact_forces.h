@@ -218,18 +218,16 @@ class ContactForces {
   bool split_used_ = false;              ///< the last compute() used split_
   /// Several threads: each thread's ghosts (SplitSums::ghosts) as a list
   /// of their own for the pair kernel: two "owners" (0: the ghosts owned in
-  /// lower runs, 1: in higher runs; off), each entry's real owner and
-  /// partner, and copies of its per-entry state, which follow on from the
-  /// last compute() when that was a team's with the same plan
-  /// (ghosts_follow_), otherwise taken from the list first (take).
+  /// lower runs, 1: in higher runs; off), each entry's real owner, and
+  /// copies of its list data (partner and per-entry state), which follow on
+  /// from the last compute() when that was a team's with the same plan
+  /// (ghosts_follow_), otherwise taken from the list first (take, by the
+  /// thread itself).
   struct GhostPairs {
-    std::vector<std::int32_t> off, owner, partner;
-    std::vector<Vec3> spring;
-    std::vector<PairState> state;
-    std::vector<std::uint8_t> active;
-    std::vector<SpheroidPairState> spheroid;  ///< empty unless the list has spheroids
-    /// Copies of the list's entries `entries`, the first `lower` owned in lower runs.
-    void take(const NeighborList& list, const std::vector<std::int32_t>& entries, std::size_t lower);
+    std::vector<std::int32_t> off, owner;
+    PairData entries;
+    /// Copies of the list's entries `ghosts`, the first `lower` owned in lower runs.
+    void take(const NeighborList& list, const std::vector<std::int32_t>& ghosts, std::size_t lower);
     /// Points `in`'s list fields at these (off, owner, partner, per-entry state).
     void point(pairs::PairInputs& in);
   };
