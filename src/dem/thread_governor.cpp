@@ -24,8 +24,10 @@ void ThreadGovernor::limit_to_chunks(std::int32_t chunks) {
   if (capped == max_) return;
   // costs measured for the old maximum no longer apply: start afresh
   RoomCheck room = std::move(room_);
+  BlockLog log = std::move(log_);
   *this = ThreadGovernor(capped, min_steps_, min_seconds_, exploit_, max_ratio_);
   room_ = std::move(room);
+  log_ = std::move(log);
 }
 
 bool ThreadGovernor::room_after_wait() {
@@ -56,6 +58,16 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
         switched_ = true;
         blocks_since_probe_ = exploit_;  // a probe due at once (r = 1 while max_threads is unmeasured)
       }
+      if (log_) {
+        Block b;
+        b.end_step = steps_[0] + steps_[1];
+        b.threads = max_;
+        b.start = true;
+        b.untimed_steps = warm_steps_;
+        b.seconds_per_step = warm_seconds_ / static_cast<double>(warm_steps_);
+        b.next = current_;
+        log_(b);
+      }
     }
     return;
   }
@@ -77,6 +89,12 @@ void ThreadGovernor::end_block() {
   // ran before it) gives its own cost, however old that count's last block.
   const double block = block_seconds_ / static_cast<double>(block_steps_);
   const int s = slot(current_);
+  Block b;
+  b.threads = current_;
+  b.probe = probing_;
+  b.timed_steps = block_steps_;
+  b.untimed_steps = untimed_;
+  b.seconds_per_step = block;
   cost_[s] = previous_block_ > 0.0 && previous_slot_ == s ? std::min(block, previous_block_) : block;
   previous_block_ = block;
   previous_slot_ = s;
@@ -86,6 +104,13 @@ void ThreadGovernor::end_block() {
   const int before = current_;
   choose_next();
   switched_ = current_ != before;
+  if (log_) {
+    b.end_step = steps_[0] + steps_[1];
+    b.cost_one = cost_[0];
+    b.cost_max = cost_[1];
+    b.next = current_;
+    log_(b);
+  }
 }
 
 void ThreadGovernor::choose_next() {
@@ -98,19 +123,27 @@ void ThreadGovernor::choose_next() {
   const int other = best == 1 ? max_ : 1;
   if (probing_) {  // the block that ended probed the other count
     probing_ = false;
-    backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
+    if (!recheck_) backoff_ = best == current_ ? 1 : std::min(2 * backoff_, kMaxProbeBackoff);
+    recheck_ = false;  // a recheck that confirms one thread leaves b at 1
   } else if (best != current_) {
     // the running count got dearer than the other: the load changed (or
     // max_threads' first measurement lost: b stays 1).
     // blocks_since_probe_ is kept, so the count just left is probed again
     // soon: a second look, in case the change was a hiccup of the host
     backoff_ = 1;
+    recheck_ = false;
+  }
+  if (!compared_ && cost_[1] != 0.0) {  // the first comparison of the two counts
+    compared_ = true;
+    recheck_ = best == 1;  // lost by max_threads: rechecked soon (the start's transients)
   }
   // Probe spacing grows with the cost ratio r (at most 64), so the probes
   // take at most 1/(exploit + 1) of the run's time, however slow the other
-  // count, and doubles with each probe that confirms the count (backoff).
+  // count, and doubles with each probe that confirms the count (backoff);
+  // a recheck comes kStartRecheck times sooner.
   const double r = std::min(max_ratio_, std::max(1.0, cost_[slot(other)] / cost_[slot(best)]));
-  const int probe_after = static_cast<int>(std::ceil(exploit_ * r * backoff_));
+  const int probe_after =
+      static_cast<int>(std::ceil(exploit_ * r * backoff_ / (recheck_ ? kStartRecheck : 1)));
   if (current_ == best && ++blocks_since_probe_ >= probe_after) {
     if (other == max_ && !room_after_wait()) return;  // the other cores are busy: one thread goes on
     blocks_since_probe_ = 0;

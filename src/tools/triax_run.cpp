@@ -1,5 +1,5 @@
 // triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] [--specimen DIR] [--quiet] [--check]
-//                  [--threads N|auto]
+//                  [--threads N|auto] [--governor-log FILE.csv]
 // triax_run --resume OUTDIR_OR_RESULTS [--save-sample ...] [--specimen ...] [--quiet] [--threads ...]
 //
 // Checkpoints: during the run, `<out>.checkpoint.h5` (io/checkpoint_file.h)
@@ -19,6 +19,9 @@
 // at run time by measurement (dem/thread_governor.h), so that a busy machine
 // makes the run fall back to one thread instead of waiting at barriers;
 // --threads N: exactly N OpenMP threads. Results are bit-identical either way.
+// --governor-log FILE.csv (with --threads auto): the governor's blocks, one
+// row each (io/governor_log.h: the count each ran, its cost per step, the
+// count chosen next), written when the run ends.
 //
 // --specimen DIR: VTK snapshots of the specimen in DIR at every stage start
 // and end and every output.snapshot_interval steps (io/snapshot_recorder.h),
@@ -52,6 +55,7 @@
 #include "virtual_triaxial/dem/machine_load.h"
 #include "virtual_triaxial/io/checkpoint_file.h"
 #include "virtual_triaxial/io/checkpoint_recorder.h"
+#include "virtual_triaxial/io/governor_log.h"
 #include "virtual_triaxial/io/hdf5_atomic_file.h"
 #include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/io/scene_builder.h"
@@ -61,6 +65,7 @@
 #include "virtual_triaxial/io/results_recorder.h"
 #include "virtual_triaxial/io/run_summary_json.h"
 #include "virtual_triaxial/io/snapshot_recorder.h"
+#include "virtual_triaxial/io/text_file.h"
 #include "virtual_triaxial/io/vtk_snapshot_writer.h"
 #include "virtual_triaxial/protocol/run_observers.h"
 
@@ -70,7 +75,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Args {
-  std::string scene, out = "results.h5", save_sample, specimen, resume;
+  std::string scene, out = "results.h5", save_sample, specimen, resume, governor_log;
   bool quiet = false;
   bool check = false;
   int threads = 0;  ///< 0 = auto
@@ -78,8 +83,9 @@ struct Args {
 
 int usage(const char* msg) {
   std::fprintf(stderr, "triax_run: %s\nusage: triax_run SCENE.yaml [--out results.h5] [--save-sample final.h5] "
-                       "[--specimen DIR] [--quiet] [--check] [--threads N|auto]\n       triax_run --resume OUTDIR_OR_RESULTS "
-                       "[--save-sample final.h5] [--specimen DIR] [--quiet] [--threads N|auto]\n", msg);
+                       "[--specimen DIR] [--quiet] [--check] [--threads N|auto] [--governor-log FILE.csv]\n"
+                       "       triax_run --resume OUTDIR_OR_RESULTS [--save-sample final.h5] [--specimen DIR] [--quiet] "
+                       "[--threads N|auto] [--governor-log FILE.csv]\n", msg);
   return 2;
 }
 
@@ -132,6 +138,7 @@ int main(int argc, char** argv) {
     if ((s == "--out" || s == "--save-sample") && i + 1 < argc) (s == "--out" ? a.out : a.save_sample) = argv[++i];
     else if (s == "--specimen" && i + 1 < argc) a.specimen = argv[++i];
     else if (s == "--resume" && i + 1 < argc) a.resume = argv[++i];
+    else if (s == "--governor-log" && i + 1 < argc) a.governor_log = argv[++i];
     else if (s == "--quiet") a.quiet = true;
     else if (s == "--check") a.check = true;
     else if (s == "--threads" && i + 1 < argc) {
@@ -147,6 +154,8 @@ int main(int argc, char** argv) {
     else if (a.scene.empty()) a.scene = s;
     else return usage(("unexpected argument " + s).c_str());
   }
+  if (!a.governor_log.empty() && a.threads > 0)
+    return usage("--governor-log: the governor runs with --threads auto only (the count is fixed with --threads N)");
   // --resume: the results file (in OUTDIR: results.h5), its checkpoint and the scene it names.
   std::optional<vt::io::CheckpointFile> resume;
   if (!a.resume.empty()) {
@@ -204,8 +213,13 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "triax_run: error: %s\n", bad.c_str());
       return 2;
     }
+    vt::io::GovernorLog governor_log;
     if (a.threads > 0) omp_set_num_threads(a.threads);
-    else sim.set_thread_governor(vt::dem::governor_on_this_machine(omp_get_max_threads()));
+    else {
+      vt::dem::ThreadGovernor g = vt::dem::governor_on_this_machine(omp_get_max_threads());
+      if (!a.governor_log.empty()) g.set_block_log([&governor_log](const auto& b) { governor_log.add(b); });
+      sim.set_thread_governor(std::move(g));
+    }
     if (const auto& g = sim.thread_governor(); g && g->max_threads() < omp_get_max_threads())
       std::fprintf(stderr, "triax_run: %zu particles: at most %d thread(s) of %d (fewer than %d chunks of %d per thread)\n",
                    sim.particles().size(), g->max_threads(), omp_get_max_threads(),
@@ -243,6 +257,11 @@ int main(int argc, char** argv) {
     if (const auto& g = sim.thread_governor(); g && g->max_threads() > 1)
       std::fprintf(stderr, "triax_run: threads chosen at run time: %lld steps on 1, %lld on %d\n",
                    static_cast<long long>(g->steps_one()), static_cast<long long>(g->steps_max()), g->max_threads());
+    if (!a.governor_log.empty()) {
+      vt::io::write_text_atomic(a.governor_log, governor_log.text());
+      if (!a.quiet)
+        std::fprintf(stderr, "triax_run: %zu governor blocks in %s\n", governor_log.blocks(), a.governor_log.c_str());
+    }
     if (report.verdict == vt::protocol::Verdict::Unstable) {
       const std::string path = a.out + ".last_good.h5";
       recorder.save_sample(path, report.last_good ? *report.last_good : initial, scene);

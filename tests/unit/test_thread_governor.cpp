@@ -83,13 +83,15 @@ TEST(ThreadGovernor, ProbesThatConfirmTheCountComeLessOften) {
   // b doubling with each probe that confirms one thread, up to 4. Each gap
   // holds the first step after the switch back (untimed): 10 x 45 b + 1 steps.
   const auto loaded = [](int t) { return t == 1 ? 1e-3 : 3e-3; };
-  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 3, 12000, false);
-  // the start's one-thread block counts towards the first probe; from it on
-  // b = 2, 4, 4, ...
-  ASSERT_EQ(gaps.size(), 3u);
-  EXPECT_EQ(gaps[0], 10 * 90 + 1);
-  EXPECT_EQ(gaps[1], 10 * 180 + 1);
-  EXPECT_EQ(gaps[2], 10 * 180 + 1);
+  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 4, 12000, true);
+  ASSERT_EQ(gaps.size(), 4u);
+  // two threads lost the start: the recheck after ceil(15 x 3 / 8) = 6
+  // blocks, the start's one-thread block (its first step untimed) the first
+  EXPECT_EQ(gaps[0], 11 + 5 * 10);
+  // the recheck confirmed one thread and left b at 1; from then on b = 2, 4
+  EXPECT_EQ(gaps[1], 10 * 45 + 1);
+  EXPECT_EQ(gaps[2], 10 * 90 + 1);
+  EXPECT_EQ(gaps[3], 10 * 180 + 1);
   // the load goes away: two threads twice as fast (r = 2); the next probe
   // wins and the backoff starts again: one thread is probed after 15 x 2 = 30
   // two-thread blocks, and again after 60 once that probe confirmed two threads
@@ -198,8 +200,10 @@ TEST(ThreadGovernor, AMomentaryNoRoomCostsOneBlock) {
 TEST(ThreadGovernor, TheFirstCostOfTwoThreadsIsNoConfirmingProbe) {
   // no room after the first block, room from then on; two threads 3x
   // dearer. Their first timed block (a probe right after one one-thread
-  // block) measures them: it does not double the spacing, so the next
-  // probe comes 15 x 3 = 45 blocks later (with the doubling: 90), then 90
+  // block) measures them: it loses the first comparison, so they are
+  // rechecked after ceil(15 x 3 / 8) = 6 blocks; neither doubles the
+  // spacing, so the next probe comes 15 x 3 = 45 blocks later (with the
+  // doubling: 90 or 180), then 90
   ThreadGovernor g(2, 10, 0.0, 15);
   int asked = 0;
   g.set_room_check([&](int) { return ++asked > 1; });
@@ -207,12 +211,13 @@ TEST(ThreadGovernor, TheFirstCostOfTwoThreadsIsNoConfirmingProbe) {
   feed(g, 10 + 11, loaded);  // the first block, one one-thread block
   ASSERT_EQ(g.threads(), 2);
   ASSERT_EQ(g.cost_max(), 0.0);
-  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 2, 4000, true);
-  ASSERT_EQ(gaps.size(), 2u);
+  const std::vector<std::int64_t> gaps = probe_gaps(g, loaded, 1, 3, 4000, true);
+  ASSERT_EQ(gaps.size(), 3u);
   EXPECT_NEAR(g.cost_max(), 3e-3, 1e-15);
   // each gap holds the first step after the switch back (untimed)
-  EXPECT_EQ(gaps[0], 10 * 45 + 1);
-  EXPECT_EQ(gaps[1], 10 * 90 + 1);
+  EXPECT_EQ(gaps[0], 10 * 6 + 1);
+  EXPECT_EQ(gaps[1], 10 * 45 + 1);
+  EXPECT_EQ(gaps[2], 10 * 90 + 1);
 }
 
 TEST(ThreadGovernor, NoProbeOfMoreThreadsWhileTheOtherCoresAreBusy) {
@@ -231,14 +236,15 @@ TEST(ThreadGovernor, NoProbeOfMoreThreadsWhileTheOtherCoresAreBusy) {
   ASSERT_EQ(g.threads(), 1);
   ASSERT_EQ(asked, 1);
   const std::int64_t max_before = g.steps_max();
-  // no room: the probe of two threads due after 15 x 3 = 45 blocks (the
-  // start's one-thread block is the first: block 44 of these 2000) is not
-  // run; the room is asked then and after 1, 2, 4, 8 and then every 15
-  // blocks: at blocks 44, 45, 47, 51, 59, 74, 89, .. 1994
+  // no room: the recheck of two threads (they lost the start) due after
+  // ceil(15 x 3 / 8) = 6 blocks (the start's one-thread block is the
+  // first: block 5 of these 2000) is not run; the room is asked then and
+  // after 1, 2, 4, 8 and then every 15 blocks: at blocks 5, 6, 8, 12, 20,
+  // 35, 50, .. 2000
   room = false;
   feed(g, 20000, loaded);
-  EXPECT_EQ(g.steps_max(), max_before);  // with room: probes after 45, 90, 180, 180 .. blocks
-  EXPECT_EQ(asked, 1 + 5 + (2000 - 59) / 15);
+  EXPECT_EQ(g.steps_max(), max_before);  // with room: probes after 6, 45, 90, 180 .. blocks
+  EXPECT_EQ(asked, 1 + 5 + (2000 - 20) / 15);
   // room again: two threads are probed within 15 blocks
   room = true;
   const std::int64_t one_before = g.steps_one();
@@ -407,4 +413,77 @@ TEST(ThreadGovernor, CapsTheCountToTheSpecimensChunks) {
   omp_set_num_threads(1);
   EXPECT_GT(b.thread_governor()->steps_max(), 0);
   EXPECT_GT(b.thread_governor()->steps_one(), 0);
+}
+
+TEST(ThreadGovernor, TheBlockLogSaysWhatEachBlockRanAndChose) {
+  ThreadGovernor g(2, 10, 0.0, 2, 64.0);  // a probe after 2 r blocks
+  std::vector<ThreadGovernor::Block> log;
+  g.set_block_log([&log](const ThreadGovernor::Block& b) { log.push_back(b); });
+  g.limit_to_chunks(100);  // no cap: the log stays
+  // the untimed start, two threads (1e-3) with one list rebuild, one thread
+  // (1.5e-3), then two threads until a probe of one thread has ended
+  g.record_step(4e-3);
+  feed(g, 9, [](int) { return 4e-3; });
+  g.record_step(9.0, false);
+  feed(g, 10, [](int t) { return t == 1 ? 1.5e-3 : 1e-3; });
+  feed(g, 11, [](int t) { return t == 1 ? 1.5e-3 : 1e-3; });
+  while (log.size() < 4 || log.back().probe == false) feed(g, 1, [](int t) { return t == 1 ? 1.5e-3 : 1e-3; });
+  ASSERT_GE(log.size(), 5u);
+  EXPECT_TRUE(log[0].start);
+  EXPECT_EQ(log[0].threads, 2);
+  EXPECT_EQ(log[0].untimed_steps, 10);
+  EXPECT_NEAR(log[0].seconds_per_step, 4e-3, 1e-15);
+  EXPECT_EQ(log[0].next, 2);
+  EXPECT_FALSE(log[1].start || log[1].probe);
+  EXPECT_EQ(log[1].end_step, 21);  // the rebuild counted, not timed
+  EXPECT_EQ(log[1].timed_steps, 10);
+  EXPECT_EQ(log[1].untimed_steps, 1);
+  EXPECT_NEAR(log[1].seconds_per_step, 1e-3, 1e-15);
+  EXPECT_NEAR(log[1].cost_max, 1e-3, 1e-15);
+  EXPECT_EQ(log[1].cost_one, 0.0);
+  EXPECT_EQ(log[1].next, 1);
+  EXPECT_EQ(log[2].threads, 1);
+  EXPECT_EQ(log[2].untimed_steps, 1);  // the first step after the switch
+  EXPECT_NEAR(log[2].cost_one, 1.5e-3, 1e-15);
+  EXPECT_EQ(log[2].next, 2);
+  // the probe: one thread after ceil(2 x 1.5) = 3 blocks of two threads
+  const ThreadGovernor::Block& probe = log.back();
+  EXPECT_EQ(log.size(), 3u + 3u + 1u);
+  EXPECT_EQ(probe.threads, 1);
+  EXPECT_EQ(probe.next, 2);
+  for (std::size_t k = 1; k < log.size(); ++k) {
+    EXPECT_EQ(log[k].threads, log[k - 1].next) << "block " << k;
+    EXPECT_EQ(log[k].end_step - log[k - 1].end_step, log[k].timed_steps + log[k].untimed_steps) << "block " << k;
+  }
+  EXPECT_EQ(probe.end_step, g.steps_one() + g.steps_max());
+}
+
+TEST(ThreadGovernor, AStartLostByTwoThreadsIsRecheckedSoon) {
+  // the start's transients make the first timed block of two threads 1.1x
+  // dearer than one thread, though two threads then cost 0.75 of one: the
+  // recheck after ceil(15 x 1.1 / 8) = 3 blocks (the start's one-thread
+  // block the first) finds it, not the probe after ceil(15 x 1.1) = 17
+  ThreadGovernor g(2, 10, 0.0, 15);
+  feed(g, 10, [](int) { return 5e-3; });         // the untimed first block
+  feed(g, 10, [](int) { return 1.1e-3; });       // two threads, start transients
+  ASSERT_EQ(g.threads(), 1);
+  const auto settled = [](int t) { return t == 1 ? 1e-3 : 0.75e-3; };
+  const std::vector<std::int64_t> gaps = probe_gaps(g, settled, 1, 1, 1000, true);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0], 11 + 2 * 10);
+  feed(g, 11, settled);  // the recheck block: two threads win
+  EXPECT_EQ(g.threads(), 2);
+  EXPECT_NEAR(g.cost_max(), 0.75e-3, 1e-15);
+  // a start won by two threads (half the cost of one) has no recheck: one
+  // thread is probed after 15 x 2 = 30 two-thread blocks (the first step
+  // after the start's one-thread block untimed)
+  const double unit = 1.0 / 1024;  // exact ratios
+  const auto halved = [&](int t) { return t == 1 ? unit : 0.5 * unit; };
+  ThreadGovernor won(2, 10, 0.0, 15);
+  feed(won, 10, [](int) { return 5e-3; });
+  feed(won, 10 + 11, halved);  // the start's blocks: two threads, one thread
+  ASSERT_EQ(won.threads(), 2);
+  const std::vector<std::int64_t> twos = probe_gaps(won, halved, 2, 1, 1000, true);
+  ASSERT_EQ(twos.size(), 1u);
+  EXPECT_EQ(twos[0], 11 + 29 * 10);
 }

@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include "virtual_triaxial/io/results_file.h"
@@ -187,4 +189,69 @@ TEST(TriaxRunCli, BlowUpIsDetectedAndHistoryKept) {
     EXPECT_LT(series.back().step - first_step, 400) << c.name;
     EXPECT_TRUE(fs::exists(out.string() + ".last_good.h5")) << c.name;
   }
+}
+
+TEST(TriaxRunCli, GovernorLogHasOneRowPerBlockOfTheRun) {
+  // --governor-log: with --threads auto, one CSV row per block of the thread
+  // governor (io/governor_log.h); with a fixed count it is refused
+  const std::string sample = (fs::path(VT_SOURCE_DIR) / "config/samples/dense_4000.h5").string();
+  const fs::path scene = write_scene("governed.yaml",
+                                     "particles: {sample_file: " + sample + "}\n"
+                                     "time_step_basis: contacts\n"
+                                     "stages:\n  - {name: shear, type: drained_shear, confining_pressure: 100.0e3, "
+                                     "strain_rate_dimensionless: 1.0e-5, stop: {axial_strain: 0.006}}\n"
+                                     "output: {interval: 100, progress_seconds: 100}\n");
+  const fs::path log = tmpdir() / "governor.csv";
+  const CliRun fixed = triax_run(scene.string() + " --threads 2 --governor-log " + log.string());
+  EXPECT_EQ(fixed.code, 2);
+  EXPECT_NE(fixed.err.find("--governor-log"), std::string::npos) << fixed.err;
+  EXPECT_FALSE(fs::exists(log));
+
+  const CliRun r = vt::test::run_program(
+      "triax_run", scene.string() + " --out " + (tmpdir() / "governed.h5").string() + " --governor-log " + log.string(),
+      tmpdir(), "OMP_NUM_THREADS=2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(slurp(log));
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, "end_step,threads,kind,timed_steps,untimed_steps,us_per_step,cost_one_us,cost_max_us,next");
+  struct Row {
+    long end, threads, timed, untimed, next;
+    std::string kind;
+    double us;
+  };
+  std::vector<Row> rows;
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string c[9];
+    for (std::string& x : c) std::getline(f, x, ',');
+    rows.push_back({std::stol(c[0]), std::stol(c[1]), std::stol(c[3]), std::stol(c[4]), std::stol(c[8]), c[2],
+                    std::stod(c[5])});
+  }
+  // 4000 particles: 8 chunks, two threads useful; blocks of >= 20 steps
+  ASSERT_GE(rows.size(), 3u) << slurp(log);
+  EXPECT_EQ(rows[0].kind, "start");
+  EXPECT_EQ(rows[0].threads, 2);
+  EXPECT_EQ(rows[0].end, rows[0].untimed);
+  long one = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    EXPECT_TRUE(rows[k].kind == (k == 0 ? "start" : "run") || (k > 0 && rows[k].kind == "probe")) << rows[k].kind;
+    EXPECT_GT(rows[k].us, 0.0);
+    EXPECT_GE(rows[k].timed + rows[k].untimed, 20);
+    if (rows[k].threads == 1) one += rows[k].timed + rows[k].untimed;
+    if (k == 0) continue;
+    EXPECT_EQ(rows[k].threads, rows[k - 1].next) << "row " << k;
+    EXPECT_EQ(rows[k].end - rows[k - 1].end, rows[k].timed + rows[k].untimed) << "row " << k;
+  }
+  // the run's own count of steps on one thread includes the unfinished last block
+  long said_one = -1, said_max = -1;
+  const std::size_t at = r.err.find("threads chosen at run time: ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  ASSERT_EQ(std::sscanf(r.err.c_str() + at, "threads chosen at run time: %ld steps on 1, %ld on 2", &said_one, &said_max), 2);
+  EXPECT_GE(said_one, one);
+  EXPECT_GE(said_one + said_max, rows.back().end);
+  // every step of the run is counted on one count or the other
+  const std::size_t steps_at = r.out.rfind("\"steps\":");
+  ASSERT_NE(steps_at, std::string::npos) << r.out;
+  EXPECT_EQ(said_one + said_max, std::stol(r.out.substr(steps_at + 8)));
 }

@@ -52,6 +52,19 @@
 //     soon (often at the next block): a second look, since the change may
 //     be a hiccup of the host (two slow blocks); when that probe confirms
 //     the switch, b becomes 2.
+//   - recheck (session 37): when max_threads loses the first comparison of
+//     the two counts (the start's blocks, or its first measurement after no
+//     room), it is probed again kStartRecheck = 8 times sooner (after
+//     ceil(exploit_blocks r / 8) blocks); that probe leaves b as it was.
+//     The start's transients lift the team's first timed blocks: with the
+//     vCPUs far apart (session 35: the cache-line round trip ~500 ns, not
+//     ~120) the run's first block of a drained shear of dense_4000.h5 with
+//     the time step from the contacts cost ~580 us a step on two threads,
+//     the next ~320, against ~300 on one thread and ~225-250 on two later
+//     on: in 10 of 22 far-apart runs (none of 26 near) one thread won the
+//     start and then ran 500-2300 of the 3470 steps
+//     (bench/results/2026-12-05-s37/). A lost start is rechecked; a won one
+//     is not (in a quiet run the probes' spacing is unchanged).
 // The probes take about 1/(exploit_blocks b + 1) of the run's wall time at
 // most (a little more for the untimed first step of a block after a switch)
 // (up to r = 64; measured under load, a 2-thread block can cost 40x a
@@ -118,6 +131,9 @@ class ThreadGovernor {
   static constexpr std::int64_t kMaxUntimed = 4;
   /// Largest factor by which probes that confirm the count space the next one.
   static constexpr int kMaxProbeBackoff = 4;
+  /// How much sooner max_threads is probed again when it lost the first
+  /// comparison of the two counts (the recheck, above).
+  static constexpr int kStartRecheck = 8;
 
   explicit ThreadGovernor(int max_threads, std::int64_t min_block_steps = 20, double min_block_seconds = 0.02,
                           int exploit_blocks = 30, double max_spacing_ratio = 64.0);
@@ -135,6 +151,24 @@ class ThreadGovernor {
   using RoomCheck = std::function<bool(int threads)>;
   /// Sets the room check (kept by limit_to_chunks); an empty one: always room.
   void set_room_check(RoomCheck room) { room_ = std::move(room); }
+
+  /// One ended block, for a log of the governor's choices (triax_run
+  /// --governor-log). The run's first block (start = true) is counted, not
+  /// timed: its cost is the start's.
+  struct Block {
+    std::int64_t end_step = 0;  ///< steps run so far, this block's included
+    int threads = 0;            ///< the count it ran
+    bool start = false;         ///< the run's first block
+    bool probe = false;         ///< it probed the other count
+    std::int64_t timed_steps = 0;
+    std::int64_t untimed_steps = 0;  ///< counted, not timed (rebuilds, first after a switch)
+    double seconds_per_step = 0;     ///< its timed steps' mean wall time [s]
+    double cost_one = 0, cost_max = 0;  ///< the counts' costs after it [s per step]
+    int next = 0;                       ///< the count of the next block
+  };
+  using BlockLog = std::function<void(const Block&)>;
+  /// Calls `log` at the end of every block (kept by limit_to_chunks).
+  void set_block_log(BlockLog log) { log_ = std::move(log); }
 
   /// Thread count for the next step.
   int threads() const { return current_; }
@@ -177,10 +211,13 @@ class ThreadGovernor {
   int blocks_since_probe_ = 0;
   bool switched_ = false;  ///< the next step is the first after a change of count
   RoomCheck room_;
+  BlockLog log_;
   int room_wait_ = 1;         ///< blocks from a "no room" to the next question (1, 2, 4, .. exploit_)
   int room_blocks_left_ = 0;  ///< blocks before the next question
   bool warming_ = true;    ///< in the run's first block (counted, not timed)
   bool probing_ = false;   ///< the running block probes the other count (whose cost is known)
+  bool compared_ = false;  ///< both counts' costs have been known
+  bool recheck_ = false;   ///< the next probe of max_threads is the start's recheck
   int backoff_ = 1;        ///< factor of the probe spacing (1, 2, .., kMaxProbeBackoff)
   std::int64_t warm_steps_ = 0;  ///< steps of the first block so far
   double warm_seconds_ = 0;      ///< their wall time [s]
