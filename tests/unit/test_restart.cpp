@@ -134,3 +134,9 @@ TEST(Restart, SplitSumsWithContactDashpotsGiveTheOneThreadBits) {
 TEST(Restart, SwitchingThreadCountsMidRunKeepsTheBits) {
   vt::test::expect_switching_threads_keeps_the_bits(vt::test::spatially_sorted(loaded_packing(1600)), 50);
 }
+
+// The two threads' runs re-cut mid-run (a thread turned slower): the plan
+// and the ghosts are made again at each re-cut and carried between them.
+TEST(Restart, ReCuttingTheThreadRunsMidRunKeepsTheBits) {
+  vt::test::expect_recuts_keep_the_bits(vt::test::spatially_sorted(loaded_packing(2400)), 4);
+}

@@ -151,6 +151,14 @@ TEST(SpheroidRestart, SwitchingThreadCountsMidRunKeepsTheBits) {
       vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2)), 30);
 }
 
+// The two threads' runs re-cut mid-run: each thread's ghost copies
+// (springs, solver caches, wake times) carried between the re-cuts and
+// taken again at each: the one-thread run bit for bit.
+TEST(SpheroidRestart, ReCuttingTheThreadRunsMidRunKeepsTheBits) {
+  vt::test::expect_recuts_keep_the_bits(
+      vt::test::spatially_sorted(tile_periodic(loaded_spheroid_packing(), 2, 2, 2)), 4);
+}
+
 namespace {
 
 /// Runs `steps` steps from `start` with sleeping off and on; the states must

@@ -154,6 +154,9 @@ class Simulation {
   bool split_used() const { return contact_forces_.split_used(); }
   /// Chunks per thread of the pair loop and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
+  /// The same, to steer the cut (tests: a thread's busy time recorded
+  /// between steps); the cut changes the time only, never the results.
+  ThreadRuns& thread_runs() { return contact_forces_.thread_runs(); }
   /// Where the steps' time went per thread and phase since the last reset
   /// (phase_times.h: pair loop, sums, integration, barrier waits).
   const PhaseTimes& phase_times() const { return contact_forces_.phase_times(); }
