@@ -58,16 +58,12 @@ void ThreadGovernor::record_step(double seconds, bool regular) {
         switched_ = true;
         blocks_since_probe_ = exploit_;  // a probe due at once (r = 1 while max_threads is unmeasured)
       }
-      if (log_) {
-        Block b;
-        b.end_step = steps_[0] + steps_[1];
-        b.threads = max_;
-        b.start = true;
-        b.untimed_steps = warm_steps_;
-        b.seconds_per_step = warm_seconds_ / static_cast<double>(warm_steps_);
-        b.next = current_;
-        log_(b);
-      }
+      Block b;
+      b.threads = max_;
+      b.start = true;
+      b.untimed_steps = warm_steps_;
+      b.seconds_per_step = warm_seconds_ / static_cast<double>(warm_steps_);
+      report(b);
     }
     return;
   }
@@ -104,13 +100,16 @@ void ThreadGovernor::end_block() {
   const int before = current_;
   choose_next();
   switched_ = current_ != before;
-  if (log_) {
-    b.end_step = steps_[0] + steps_[1];
-    b.cost_one = cost_[0];
-    b.cost_max = cost_[1];
-    b.next = current_;
-    log_(b);
-  }
+  report(b);
+}
+
+void ThreadGovernor::report(Block b) const {
+  if (!log_) return;
+  b.end_step = steps_[0] + steps_[1];
+  b.cost_one = cost_[0];
+  b.cost_max = cost_[1];
+  b.next = current_;
+  log_(b);
 }
 
 void ThreadGovernor::choose_next() {

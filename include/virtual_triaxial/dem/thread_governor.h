@@ -189,6 +189,9 @@ class ThreadGovernor {
  private:
   int slot(int t) const { return t == 1 ? 0 : 1; }
   void end_block();
+  /// The ended block `b` to the log, with the step count, the costs and the
+  /// next count as they are now.
+  void report(Block b) const;
   void choose_next();  ///< the count of the next block
   bool room() const { return !room_ || room_(max_); }
   /// room(), asked after 1, 2, 4, .. exploit_ blocks while it says no (a
