@@ -3,7 +3,7 @@
 //
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
-//               [--no-sleep] [--sums auto|pair-loop|gather]
+//               [--no-sleep]
 //   triax_bench --sample FILE [--tile KxKyKz] --threads T [...]
 //   triax_bench --sample FILE [--tile KxKyKz] --alternate A,B [--block K] [...]
 //   triax_bench --sample FILE [--tile KxKyKz] --threads T --pair-tile KxKyKz
@@ -52,9 +52,6 @@
 // unchanged, so the fingerprint must not change; only pairs and rebuilds do).
 // --no-sleep: spheroid pairs found apart are tested every step
 // (Simulation::set_sleep_apart_pairs(false); same fingerprint, for A/B).
-// --sums: on one thread, where per-particle forces are summed (Simulation::
-// set_pair_loop_sum_threshold: auto = the default (the pair loop), pair-loop, gather;
-// same fingerprint, for A/B); the output says which one ran (sums_in).
 // --alternate A,B [--block K] (instead of --threads): one simulation runs
 // on A threads and on B threads in turn, K steps at a time (default 200),
 // S steps on each count (so it advances 2S, which rebuilds_during_timing
@@ -166,7 +163,6 @@ int usage(const char* msg) {
                "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
                "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
                "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n"
-               "  --sums auto|pair-loop|gather: one thread, where forces are summed (A/B)\n"
                "  --alternate A,B [--block K]: instead of --threads, A and B threads in turn,\n"
                "  K steps at a time (default 200); prints both costs and the speed-up of B over A\n"
                "  --pair-tile KxKyKz [--pair-sample FILE] [--block K]: with --sample, that sample (default\n"
@@ -422,7 +418,6 @@ int main(int argc, char** argv) {
   std::string cache_dir;
   bool spheroids = false;
   bool sleep = true;
-  std::string sums = "auto";
   double aspect = 1.2;
   long long alternate[2] = {0, 0};  // --alternate A,B: thread counts taken in turn
   long long block = 200;            // --block: steps per turn
@@ -502,11 +497,6 @@ int main(int argc, char** argv) {
       sort_sample = true;
     } else if (k == "--no-sleep") {
       sleep = false;
-    } else if (k == "--sums") {
-      if (!v || (std::string(v) != "auto" && std::string(v) != "pair-loop" && std::string(v) != "gather"))
-        return usage("--sums needs auto, pair-loop or gather");
-      sums = v;
-      ++a;
     } else if (k == "-h" || k == "--help") {
       return usage(nullptr);
     } else {
@@ -612,8 +602,6 @@ int main(int argc, char** argv) {
   const auto set_up = [&](Simulation& s) {
     s.set_sleep_apart_pairs(sleep);
     if (threads == 0) s.set_thread_governor(governor_on_this_machine(omp_get_num_procs()));
-    if (sums == "pair-loop") s.set_pair_loop_sum_threshold(0);
-    if (sums == "gather") s.set_pair_loop_sum_threshold(SIZE_MAX);
     const double shear = kShearRate / s.time_scale().t0;
     s.set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
     for (int k = 0; k < 49; ++k)
@@ -686,9 +674,8 @@ int main(int argc, char** argv) {
   std::printf("neighbour_pairs_per_particle: %.3f\n",
               static_cast<double>(sim->neighbor_list().pairs().size()) / np);
   std::printf("skin_ratio: %g\n", sim->settings().skin_ratio);
-  std::printf("sums_in: %s\n", sim->summed_in_pair_loop() ? "pair loop"
-                                : sim->split_used()        ? "each thread's pair loop, with the pairs crossing runs as ghosts"
-                                                           : "gather");
+  std::printf("sums_in: %s\n", sim->split_used() ? "each thread's pair loop, with the pairs crossing runs as ghosts"
+                                                : "the pair loop");
   if (sim->split_used())
     std::printf("cut_particles: %zu\nghost_pairs: %zu\nthread_run_recuts: %lld\n", sim->cut_particles(),
                 sim->ghost_pairs(), static_cast<long long>(sim->thread_runs().recuts()));

@@ -37,7 +37,6 @@ void ContactForces::Scratch::reserve(std::size_t n) {
 }
 
 using pairs::PairInputs;
-using pairs::kPrefetchParticles;
 
 void ContactForces::GhostPairs::take(const NeighborList& list, const std::vector<std::int32_t>& ghosts,
                                      std::size_t lower) {
@@ -93,25 +92,17 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   ContactSums* sums = chunk_sums_.data();
   force.resize(n);
   torque.resize(n);
-  const std::size_t state_bytes =
-      pd.size() * (sizeof(PairState) + (spheroids ? sizeof(SpheroidPairState) : std::size_t{0}));
-  const bool scatter = omp_get_max_threads() == 1 && state_bytes >= pair_loop_bytes_;
-  pair_loop_sums_ = scatter;
-  if (scatter) {
-    std::fill(force.begin(), force.end(), Vec3{});
-    std::fill(torque.begin(), torque.end(), Vec3{});
-    in.force_out = force.data();
-    in.torque_out = torque.data();
-  }
+  // The pair loops sum the particles: one thread all of them, a team's
+  // threads their runs' (own_begin, own_span set per thread below); each
+  // zeroes the sums it makes.
+  in.force_out = force.data();
+  in.torque_out = torque.data();
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   Scratch* scratch = scratch_.data();
   phases_.ensure_threads(omp_get_max_threads());
   PhaseTimes* phases = &phases_;
 
-  const std::int32_t* goff = list.gather_offsets().data();
-  const std::int32_t* gcode = list.gather_codes().data();
-  const PairState* ps = pd.state.data();
   const double* rad = p.radius.data();
   Vec3* fout = force.data();
   Vec3* tout = torque.data();
@@ -123,33 +114,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const pairs::PairKernel kernel = spheroids ? pairs::spheroid_pair_kernel(measure, viscous_a_ > 0.0)
                                             : pairs::sphere_pair_kernel(measure, viscous_a_ > 0.0);
 
-  // Gather, per particle, over its gather slots in list order: entries of
-  // owners stored before it (force added), its own entries (force
-  // subtracted), entries of owners stored after it (force added). No
-  // contact test: entries not in contact hold zero force and moment (see
-  // evaluate_pairs), and f + 0, t + l * 0 leave f and t unchanged bit for
-  // bit (a sum that starts at +0 and only adds or subtracts is never -0),
-  // so the loop has no unpredictable branch, and the sums equal those of
-  // the one-thread pair loop, which adds the contacts only. Spheres:
-  const auto gather_sphere = [&](std::int32_t i) {
-    const double ri = rad[i];
-    Vec3 f{}, t{};
-    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
-      const std::int32_t code = gcode[g];
-      const PairState& s = ps[code >> 2];
-      // +F on the partner, -F on the owner: f + (+-1) F rounds as f +- F
-      const double sign = 1.0 - static_cast<double>(code & 2);
-      f = fused_multiply_add(sign, s.force, f);
-      t = fused_multiply_add(ri - s.half_overlap, s.moment_axis, t);
-    }
-    fout[i] = f;
-    tout[i] = t;
-  };
-  // The pair states of particle i's slots from slot g on, prefetched (the
-  // gather's caller, kPrefetchParticles particles ahead).
-  const auto prefetch_slots = [&](std::int32_t i, std::int32_t g) {
-    for (; g < goff[i + 1]; ++g) __builtin_prefetch(ps + (gcode[g] >> 2));
-  };
   // Support data and contact radii of particles [i0, i1) (PairBody;
   // symmetry axis e = q (1,0,0)): one rotation per particle instead of one
   // per particle and pair.
@@ -163,32 +127,6 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
       const bool spheroid = shape[i] == Shape::Spheroid;
       body[i].radii = {spheroid ? (axes[i].x + 2.0 * axes[i].y) / 3.0 : rad[i], spheroid ? axes[i].y : rad[i]};
     }
-  };
-  // Particles with spheroids: the moment on the partner is in the pair state (one line
-  // for the entries of other particles), the one on the owner in the
-  // spheroid pair state (own entries: consecutive in the list).
-  const SpheroidPairState* sps = spheroids ? pd.spheroid.data() : nullptr;
-  const auto gather_spheroid = [&](std::int32_t i) {
-    Vec3 f{}, t{};
-    std::int32_t g = goff[i];
-    const std::int32_t g_end = goff[i + 1];
-    for (; g < g_end && (gcode[g] & 2) == 0; ++g) {  // owners stored before i
-      const std::int32_t e = gcode[g] >> 2;
-      f += ps[e].force;
-      t += ps[e].moment_axis;  // moment on j
-    }
-    for (; g < g_end && (gcode[g] & 2) != 0; ++g) {  // own entries
-      const std::int32_t e = gcode[g] >> 2;
-      f -= ps[e].force;
-      t += sps[e].torque_i;
-    }
-    for (; g < g_end; ++g) {  // owners stored after i
-      const std::int32_t e = gcode[g] >> 2;
-      f += ps[e].force;
-      t += ps[e].moment_axis;
-    }
-    fout[i] = f;
-    tout[i] = t;
   };
   SplitSums* split = &split_;
   ThreadRuns* runs = &runs_;
@@ -206,7 +144,7 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   const double region_start = omp_get_wtime();
 
   // One parallel region. One thread: the pair loop sums per particle itself,
-  // in list order (or the gather after it). Several (split_sums.h): each
+  // in list order. Several (split_sums.h): each
   // thread's pair loop sums its run's particles, with the pairs owned in
   // other runs whose partner is home evaluated again as ghosts, before
   // and after its chunks.
@@ -223,21 +161,15 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
     };
     if (team == 1) {
       // One thread, chunks in ascending order: the pair loop visits every
-      // pair in list order, the order of the per-particle sums (scatter),
-      // or the gather below makes them (set_pair_loop_sum_threshold).
+      // pair in list order, the order of the per-particle sums.
       const double t0 = omp_get_wtime();
       if (spheroids) refresh_bodies(0, ni);
+      std::fill(fout, fout + ni, Vec3{});
+      std::fill(tout, tout + ni, Vec3{});
       const double t1 = omp_get_wtime();
       for (std::int32_t c = 0; c < nchunks; ++c) evaluate_chunk(in, c);
-      const double t2 = omp_get_wtime();
-      if (!scatter)
-        for (std::int32_t i = 0; i < ni; ++i) {
-          if (i + kPrefetchParticles < ni) prefetch_slots(i + kPrefetchParticles, goff[i + kPrefetchParticles]);
-          spheroids ? gather_spheroid(i) : gather_sphere(i);
-        }
       phases->add(0, PhaseTimes::Prepare, t1 - t0);
-      phases->add(0, PhaseTimes::Pairs, t2 - t1);
-      phases->add(0, PhaseTimes::Sums, omp_get_wtime() - t2);
+      phases->add(0, PhaseTimes::Pairs, omp_get_wtime() - t1);
     } else {
       // Several threads: each takes its run of consecutive chunks (the run
       // of the integrator too) for the spheroids' support data, the pairs

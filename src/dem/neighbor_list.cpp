@@ -154,7 +154,7 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
   offsets_.swap(offsets);
   pairs_ = std::move(next);
   spheroids_ = spheroids;
-  build_reverse(p);
+  build_owners(p);
   frac_at_build_ = p.frac;
   if (rebuilds_ == 0) collapse_huge(frac_at_build_);
   h_at_build_inv_ = cell.h_inverse();
@@ -162,45 +162,15 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
   ++rebuilds_;
 }
 
-void NeighborList::build_reverse(const Particles& p) {
+void NeighborList::build_owners(const Particles& p) {
   const std::size_t n = p.size();
   const std::size_t npairs = pairs_.size();
-  if (npairs >= (std::size_t{1} << 29))
-    throw std::runtime_error("neighbour list: more than 2^29 pairs are not supported");
+  if (npairs >= (std::size_t{1} << 31))
+    throw std::runtime_error("neighbour list: more than 2^31 - 1 pairs are not supported");
   reserve_huge(owners_, npairs + npairs / 8);
   owners_.resize(npairs);
   for (std::size_t i = 0; i < n; ++i)
     std::fill(owners_.begin() + offsets_[i], owners_.begin() + offsets_[i + 1], static_cast<std::int32_t>(i));
-
-  // Reverse index: for each particle, the entries where it is the partner,
-  // in ascending entry index (owners visited in storage order).
-  std::vector<std::int32_t> rev_offsets(n + 1, 0), rev_entries(npairs);
-  for (std::int32_t j : pairs_.partner) ++rev_offsets[static_cast<std::size_t>(j) + 1];
-  for (std::size_t i = 0; i < n; ++i) rev_offsets[i + 1] += rev_offsets[i];
-  {
-    std::vector<std::int32_t> fill(rev_offsets.begin(), rev_offsets.end() - 1);
-    for (std::int32_t e = 0; e < static_cast<std::int32_t>(npairs); ++e)
-      rev_entries[static_cast<std::size_t>(fill[static_cast<std::size_t>(pairs_.partner[e])]++)] = e;
-  }
-
-  // Gather slots: per particle every entry it is part of, in ascending entry
-  // index (list order): reverse entries of owners stored before it (force
-  // added), its own entries (force subtracted), reverse entries of owners
-  // stored after it (force added); the last slot of each particle is flagged.
-  gather_offsets_.resize(n + 1);
-  reserve_huge(gather_code_, 2 * npairs + npairs / 4);
-  gather_code_.resize(2 * npairs);
-  std::size_t g = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    gather_offsets_[i] = static_cast<std::int32_t>(g);
-    std::int32_t k = rev_offsets[i];
-    for (; k < rev_offsets[i + 1] && rev_entries[static_cast<std::size_t>(k)] < offsets_[i]; ++k, ++g)
-      gather_code_[g] = rev_entries[static_cast<std::size_t>(k)] * 4;
-    for (std::int32_t e = offsets_[i]; e < offsets_[i + 1]; ++e, ++g) gather_code_[g] = e * 4 + 2;
-    for (; k < rev_offsets[i + 1]; ++k, ++g) gather_code_[g] = rev_entries[static_cast<std::size_t>(k)] * 4;
-    if (g > static_cast<std::size_t>(gather_offsets_[i])) gather_code_[g - 1] |= 1;
-  }
-  gather_offsets_[n] = static_cast<std::int32_t>(g);
 }
 
 double NeighborList::max_displacement2(const Particles& p, const PeriodicCell& cell) const {

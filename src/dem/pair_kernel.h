@@ -16,11 +16,10 @@
 namespace vt::dem::pairs {
 
 // Software prefetch distances (measured on the 1e5-particle bench, where the
-// particle data of a partner and the pair state of a reverse entry are
-// usually not in cache; no effect when everything fits in cache):
+// particle data of a partner is usually not in cache; no effect when
+// everything fits in cache):
 constexpr std::int32_t kPrefetchEntries = 24;   // pass 1: partner data, entries ahead
 constexpr std::int32_t kPrefetchContacts = 6;   // pass 2: pair state and spring, contacts ahead
-constexpr std::int32_t kPrefetchParticles = 6;  // gather: pair states, particles ahead
 
 /// A per-lane flag of the SIMD lane structs (a contact's sliding state): 8
 /// bytes, as wide as their doubles. With a 4-byte field GCC took an 8-lane
@@ -62,10 +61,9 @@ struct PairInputs {
   Mat3 h, lgrad;
   HertzMindlin law;
   double dt;
-  // Per-particle force and torque summed right in pass 2, in list order (the
-  // gather's order, see ContactForces::compute): the arrays themselves (on
-  // several threads only the particles of the thread's run: own_begin,
-  // own_span below); null when a gather makes the sums.
+  // Per-particle force and torque summed right in pass 2, in list order
+  // (ContactForces::compute): the arrays themselves (on several threads
+  // only the particles of the thread's run: own_begin, own_span below).
   Vec3* force_out;
   Vec3* torque_out;
   // viscous contact damping (viscous_contact_damping.h): masses and a; unused when off
@@ -189,8 +187,8 @@ struct ChunkSums {
 
 /// A pair kernel: evaluates the pairs owned by particles [i_begin, i_end)
 /// (list entries off[i_begin] .. off[i_end]), stores each entry's result in
-/// the list, adds to in.force_out / in.torque_out when set (to partners
-/// in [own_begin, own_begin + own_span) only: PairInputs::home), and
+/// the list, adds to in.force_out / in.torque_out (owners and partners in
+/// [own_begin, own_begin + own_span) only: PairInputs::home), and
 /// returns the chunk's sums. The last four arguments are per-thread scratch
 /// (ContactForces::Scratch).
 using PairKernel = ContactSums (*)(const PairInputs&, std::int32_t, std::int32_t, std::int32_t*, std::int32_t*,

@@ -104,8 +104,8 @@ inline void set_lane(SphereLanes& L, int k, const PairInputs& in, std::int32_t e
 /// mispredict too); pass 2 evaluates the contacts found, still in list
 /// order, so every sum sees the same terms in the same order as the plain
 /// double loop over particles and their entries. Entries not in contact hold
-/// zero force and moment (so the gather may add every entry); one that was in
-/// contact at the last evaluation also loses its spring. Measure = false
+/// zero force and overlap; one that was in contact at the last evaluation
+/// also loses its spring. Measure = false
 /// skips what only measured steps use (elastic energy, force norms, the axis
 /// stiffness terms).
 template <bool Measure, bool Viscous>
@@ -163,7 +163,7 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
         // the partner's sums (scattered reads when N is large), only when
         // this thread makes them: a prefetch for writing of another run's
         // sums takes their line from the thread that is adding to it
-        if (in.force_out && in.home(jp)) {
+        if (in.home(jp)) {
           __builtin_prefetch(in.force_out + jp, 1);
           __builtin_prefetch(in.torque_out + jp, 1);
         }
@@ -183,10 +183,9 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       const double hov = L.hov[k];
       PairState& st = in.state[e];
       store(st.force, f);
-      store(st.moment_axis, m);
       st.half_overlap = hov;
       store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
-      if (in.force_out) {  // the gather's arithmetic, in the gather's order
+      {  // both particles' sums, in list order
         // a particle of another thread's run (the owner of a ghost, the
         // partner of a pair crossing the runs): summed there, by that
         // thread's pair loop or its ghost of this pair (split_sums.h)

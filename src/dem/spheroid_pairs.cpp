@@ -29,14 +29,12 @@ inline void count_warm_solves(SpheroidContactStats& stats, std::uint64_t solved)
   stats.iterations += solved;
 }
 
-/// Entry e without a contact: no force, moments or spring (its cache and
-/// wake time are the caller's); returns its spheroid state.
+/// Entry e without a contact: no force or spring (its cache and wake time
+/// are the caller's); returns its spheroid state.
 inline SpheroidPairState& clear_contact(const PairInputs& in, std::int32_t e) {
   in.state[e] = PairState{};
   in.spring[e] = Vec3{};
-  SpheroidPairState& sp = in.sph[e];
-  sp.torque_i = Vec3{};
-  return sp;
+  return in.sph[e];
 }
 
 /// Pairs of the spheroid pair loop taken kLawLanes at a time (PairGroup
@@ -377,12 +375,10 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       const Vec3 mi{L.mix[k], L.miy[k], L.miz[k]};
       PairState& st = lane_in.state[e];
       store(st.force, f);
-      store(st.moment_axis, mj);  // here: the moment on j (see SpheroidPairState)
       st.half_overlap = 0.5 * L.delta[k];
       store(lane_in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
-      store(lane_in.sph[e].torque_i, mi);
       lane_in.active[e] = 1;
-      if (lane_in.force_out) {  // the gather's arithmetic, in the gather's order
+      {  // both particles' sums, in list order
         // a particle of another thread's run (the owner of a ghost, the
         // partner of a pair crossing the runs): summed there (split_sums.h)
         const bool home_i = lane_in.home(i), home_j = lane_in.home(j);
@@ -413,7 +409,7 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       __builtin_prefetch(in.omg + jp);
       __builtin_prefetch(in.state + ep, 1);
       __builtin_prefetch(in.spring + ep, 1);
-      if (in.force_out && in.home(jp)) {  // never another run's sums (sphere_pairs.cpp)
+      if (in.home(jp)) {  // never another run's sums (sphere_pairs.cpp)
         __builtin_prefetch(in.force_out + jp, 1);
         __builtin_prefetch(in.torque_out + jp, 1);
       }

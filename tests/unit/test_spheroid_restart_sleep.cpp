@@ -69,21 +69,16 @@ TEST(SpheroidRestart, ResultsDoNotDependOnTheThreadCount) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(1);
   Simulation one(start);
-  one.set_pair_loop_sum_threshold(0);  // one thread: sums in the pair loop
   ASSERT_EQ(one.run(300), 300);
-  EXPECT_TRUE(one.summed_in_pair_loop());
-  EXPECT_TRUE(vt::test::has_owner_stored_after(one.neighbor_list())) << "the test needs all three slot groups";
-  Simulation one_gather(start);
-  one_gather.set_pair_loop_sum_threshold(SIZE_MAX);  // one thread: gather
-  ASSERT_EQ(one_gather.run(300), 300);
-  EXPECT_FALSE(one_gather.summed_in_pair_loop());
+  EXPECT_FALSE(one.split_used());
+  EXPECT_TRUE(vt::test::has_owner_stored_after(one.neighbor_list()))
+      << "the test needs particles summed across owners stored before and after them";
   omp_set_num_threads(3);
   Simulation three(start);
   ASSERT_EQ(three.run(300), 300);
-  EXPECT_FALSE(three.summed_in_pair_loop());
+  EXPECT_TRUE(three.split_used());
   omp_set_num_threads(before);
   expect_same_state(one.state(), three.state());
-  expect_same_state(one_gather.state(), three.state());
 }
 
 TEST(SpheroidRestart, PairsCrossingThreadRunsGiveTheOneThreadBits) {

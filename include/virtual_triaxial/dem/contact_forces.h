@@ -12,8 +12,7 @@
 // and moment (about the centroid) add each particle's contacts in list order
 // (NeighborList), whichever way they are made:
 //   - one thread: the pair loop, which visits the pairs in list order, adds
-//     them to both particles as it goes (set_pair_loop_sum_threshold can
-//     ask for the gather below instead, for A/B);
+//     them to both particles as it goes;
 //   - several threads: thread t takes its run of chunks (thread_runs.h, cut
 //     by measured speed) and sums its run's particles in its own pair loop;
 //     the pairs owned in other runs whose partner is home are evaluated
@@ -57,14 +56,15 @@
 // with selects instead of jumps) run by one loop the compiler vectorises
 // (AVX2/AVX-512 with -march=native), the results stored and summed one by
 // one in list order (1.3x faster than one contact at a time at 12 000
-// particles; the same bits). Entries out of contact keep zero force and
-// moment so that the gather adds every entry without a test; the per-pair
-// results sit in one cache line per entry (PairState); partner data and
+// particles; the same bits). The per-pair results (force and half overlap)
+// sit in half a cache line per entry (PairState); partner data and
 // pair states are prefetched in software; Vec3 results are stored one
 // component at a time (a whole-Vec3 store went through a stack slot, a
-// store-forwarding stall). On one thread there is no gather (its scattered
-// reads of other particles' pair states were the step's largest cost growth
-// with N, and it costs 12 % even where they fit the L2 cache); on several
+// store-forwarding stall). There is no gather of each particle's sums from
+// the pair states after the pair loop (sessions 7-36 kept one for A/B: its
+// scattered reads of other particles' pair states were the step's largest
+// cost growth with N, and it cost 12 % even where they fit the L2 cache;
+// session 37 removed it with the moments it needed in the states); on several
 // threads the pairs that cross the runs are evaluated twice (ghosts,
 // split_sums.h: no pair state is read by another thread; against the
 // completions from the pair states that sessions 16-35 made after a
@@ -80,10 +80,7 @@
 // separation certificate is evaluated at the warm start, and a solve reuses
 // those support values (SpheroidStart); a pair found apart sleeps until the
 // motion clock says it may touch (set_motion_clock: on the bench about 1.9
-// of the 3.2 pairs in reach per particle sleep); the moment on j is kept in
-// PairState::moment_axis, so the gather reads one line for an entry of
-// another particle (the moment on i is in the SpheroidPairState, read for
-// the particle's own, consecutive entries). The warm solves and the contact
+// of the 3.2 pairs in reach per particle sleep). The warm solves and the contact
 // law run 16 pairs at a time as SIMD (spheroid_warm_lanes.h,
 // spheroid_pairs.cpp). Several threads take the thread runs as for
 // spheres (support data included, a barrier after it) and the same ghosts
@@ -157,23 +154,10 @@ class ContactForces {
     sleep_ = sleep;
   }
 
-  /// On one thread, the pair loop itself adds each pair's force and moment
-  /// to both particles (no gather) when the list's pair states take at
-  /// least `bytes`; with fewer, a gather after the pair loop re-reads every
-  /// pair state. Both give the same bits. Default 0: always the pair loop
-  /// (since the contacts run several at a time it is the faster at every N
-  /// measured: 0.082 against 0.092 us per particle-step at 1000 dense
-  /// spheres, whose pair states fit the L2 cache, 0.086 against 0.096 at
-  /// 8000); SIZE_MAX always takes the gather (A/B, tests).
-  void set_pair_loop_sum_threshold(std::size_t bytes) { pair_loop_bytes_ = bytes; }
   /// Viscous contact dashpots in every contact (viscous_contact_damping.h);
   /// a default-constructed one (e = 1) turns them off, and the pair loop is
   /// then the one without dashpots (a separate instantiation).
   void set_viscous_damping(const ViscousContactDamping& d);
-  std::size_t pair_loop_sum_threshold() const { return pair_loop_bytes_; }
-  /// Whether the last compute() summed in the pair loop on one thread (on
-  /// several: each thread's pair loop with its ghosts, split_sums.h).
-  bool summed_in_pair_loop() const { return pair_loop_sums_; }
   /// On several threads: the pairs the last compute() evaluated twice,
   /// once by their owner's thread and once, as a ghost, by their
   /// partner's (SplitSums::ghosts); 0 otherwise.
@@ -209,8 +193,6 @@ class ContactForces {
   std::vector<PairBody> bodies_;  ///< spheroid path: per particle, support and radii, rebuilt every call
   double motion_clock_ = 0.0;
   bool sleep_ = false;
-  std::size_t pair_loop_bytes_ = 0;
-  bool pair_loop_sums_ = false;
   double viscous_a_ = 0.0;  ///< a of the contact dashpots; 0 = none
   SplitSums split_;                      ///< several threads: the ghosts
   ThreadRuns runs_;                      ///< chunks per thread (pair loop and integrator)

@@ -10,16 +10,15 @@
 // id. For a pair that is listed, its place in that order depends only on the
 // pair (the storage order never changes during a run), not on which other
 // pairs the list holds. Forces are summed per particle in list order over
-// the entries it is part of (gather slots below; on one thread the pair loop
-// adds them in the same order, ContactForces); entries out of contact add
-// exact zeros, so results do not depend on when the list was rebuilt or on
-// the number of threads.
+// the entries it is part of (the pair loop adds them in that order,
+// ContactForces), so results do not depend on when the list was rebuilt or
+// on the number of threads.
 //
 // Spheroids: the pair test uses the bounding radius (semi_axes.x = major
 // semi-axis a; = R for spheres). When the particles include spheroids
 // (has_spheroids()), every entry also carries a SpheroidPairState: the
 // warm-start cache of the common-normal solver (spheroid_contact.h), keyed
-// and carried over like the spring, and the pair's moments on both particles.
+// and carried over like the spring, and the time the pair sleeps to.
 //
 // Rebuild criterion: 2 max_p |H (s_p - s_p,build)| + ||H H_build^-1 - I||_F
 // * cutoff_max > skin, i.e. no pair can have closed the skin since the build,
@@ -36,23 +35,22 @@
 
 namespace vt::dem {
 
-/// Result of the last force evaluation of one list entry. One cache line:
-/// the gather reads an entry owned by another particle as a single line.
-struct alignas(64) PairState {
+/// Result of the last force evaluation of one list entry, read by the
+/// measures, the servo's axis stiffness, the contact time step and the
+/// list's keep rule. Half a cache line, aligned: the pair loop writes it for
+/// every contact at every step (session 37: 32 bytes instead of a 64-byte
+/// line holding the moment too, which only a gather of every particle's
+/// sums read; without it one thread is 2.6-2.8 % faster at 12 000 spheres
+/// and spheroids and 4.8 % at 10^5 spheres).
+struct alignas(32) PairState {
   Vec3 force;                ///< total contact force on j [N]; zero when not in contact
-  /// Spheres: n x F_on_i [N], torque on i = l_i * this. Spheroid path
-  /// (NeighborList::has_spheroids()): the moment on j (the partner) about its
-  /// centre [N m]. Zero when not in contact.
-  Vec3 moment_axis;
   double half_overlap = 0;   ///< delta/2 [m]; 0 when not in contact
 };
 
 /// Per-entry state of a pair that involves a spheroid (only kept when the
-/// particles include spheroids). The moment is zero when not in contact; the
-/// moment on j is PairState::moment_axis.
-struct SpheroidPairState {
+/// particles include spheroids): one cache line.
+struct alignas(64) SpheroidPairState {
   SpheroidContactCache cache;  ///< warm start of the contact solver
-  Vec3 torque_i;               ///< moment on i (the owner) about its centre [N m]
   /// The pair was found apart with gap g < 0 along some fixed normal when the
   /// motion clock (ContactForces::set_motion_clock) read C0; it stays apart
   /// while the clock reads below wake = C0 - g/2 (0: awake) [m]. Always
@@ -79,12 +77,11 @@ class PairField {
 struct PairData {
   std::vector<std::int32_t> partner;  ///< storage index of j
   std::vector<Vec3> spring;           ///< tangential force on j [N]
-  std::vector<PairState> state;       ///< last evaluation (force, moment axis, overlap)
+  std::vector<PairState> state;       ///< last evaluation (force, overlap)
   std::vector<std::uint8_t> active;   ///< 1: in contact at the last evaluation (= half_overlap != 0)
   std::vector<SpheroidPairState> spheroid;  ///< empty unless the particles include spheroids
   // Read-only views of the fields of `state`.
   PairField<Vec3, &PairState::force> force{&state};              ///< force on j [N]
-  PairField<Vec3, &PairState::moment_axis> moment_axis{&state};  ///< see PairState::moment_axis
   PairField<double, &PairState::half_overlap> half_overlap{&state};  ///< delta/2 [m]
 
   PairData() = default;
@@ -154,13 +151,6 @@ class NeighborList {
   std::int64_t rebuild_count() const { return rebuilds_; }
 
   const std::vector<std::int32_t>& offsets() const { return offsets_; }
-  /// Gather slots in CSR form (gather_offsets, size N+1): for particle i,
-  /// every entry it is part of in ascending entry index, i.e. the entries
-  /// of owners stored before i, then i's own entries, then the entries of
-  /// owners stored after i. Slot code = 4 entry + 2 (own entry: force on i
-  /// is -force) + 1 (last slot of i).
-  const std::vector<std::int32_t>& gather_offsets() const { return gather_offsets_; }
-  const std::vector<std::int32_t>& gather_codes() const { return gather_code_; }
   /// Owner (storage index of i, the lower id) of every entry.
   const std::vector<std::int32_t>& owners() const { return owners_; }
   PairData& pairs() { return pairs_; }
@@ -191,7 +181,7 @@ class NeighborList {
   void build_bins(const Particles& p, const PeriodicCell& cell, double cutoff);
   void collect_candidates(const Particles& p, const PeriodicCell& cell,
                           std::vector<std::vector<std::int32_t>>& per_particle) const;
-  void build_reverse(const Particles& p);
+  void build_owners(const Particles& p);  ///< owners_ from offsets_
 
   double skin_ = 0.0;
   bool built_ = false;
@@ -200,7 +190,6 @@ class NeighborList {
   double cutoff_max_ = 0.0;
   std::vector<std::int32_t> offsets_;   ///< CSR offsets, size N+1
   PairData pairs_;
-  std::vector<std::int32_t> gather_offsets_, gather_code_;
   std::vector<std::int32_t> owners_;
   std::vector<Vec3> frac_at_build_;
   Mat3 h_at_build_inv_;

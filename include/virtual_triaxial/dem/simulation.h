@@ -142,10 +142,6 @@ class Simulation {
   /// are bit-identical either way; the solver counters (solves, iterations)
   /// are not, as sleeping pairs are not solved.
   void set_sleep_apart_pairs(bool on) { sleep_apart_ = on; }
-  /// One thread: where the per-particle sums are made (ContactForces::
-  /// set_pair_loop_sum_threshold); results are bit-identical either way.
-  void set_pair_loop_sum_threshold(std::size_t bytes) { contact_forces_.set_pair_loop_sum_threshold(bytes); }
-  bool summed_in_pair_loop() const { return contact_forces_.summed_in_pair_loop(); }
   /// Pairs evaluated twice on several threads (ghosts, ContactForces::ghost_pairs).
   std::size_t ghost_pairs() const { return contact_forces_.ghost_pairs(); }
   /// Particles with a pair owned in another thread's run (ContactForces::cut_particles).

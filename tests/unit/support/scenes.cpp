@@ -75,15 +75,14 @@ dem::SimulationState spatially_sorted(dem::SimulationState s) {
 }
 
 bool has_owner_stored_after(const dem::NeighborList& list) {
-  const std::vector<std::int32_t>& goff = list.gather_offsets();
-  const std::vector<std::int32_t>& code = list.gather_codes();
-  for (std::size_t i = 0; i + 1 < goff.size(); ++i) {
-    bool own_seen = false;
-    for (std::int32_t g = goff[i]; g < goff[i + 1]; ++g) {
-      const bool own = (code[static_cast<std::size_t>(g)] & 2) != 0;
-      if (!own && own_seen) return true;
-      own_seen = own_seen || own;
-    }
+  // a particle i with entries of its own and an entry whose owner is stored
+  // after it (partner i < owner)
+  const std::vector<std::int32_t>& off = list.offsets();
+  const std::vector<std::int32_t>& owners = list.owners();
+  const std::vector<std::int32_t>& partner = list.pairs().partner;
+  for (std::size_t e = 0; e < partner.size(); ++e) {
+    const auto j = static_cast<std::size_t>(partner[e]);
+    if (partner[e] < owners[e] && off[j + 1] > off[j]) return true;
   }
   return false;
 }

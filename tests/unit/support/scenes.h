@@ -43,8 +43,9 @@ void randomize_velocities(dem::Particles& p, double speed, double spin, std::uin
 /// particles have list entries of owners stored after them.
 dem::SimulationState spatially_sorted(dem::SimulationState s);
 
-/// True when some particle's gather slots hold an entry of an owner stored
-/// after it (a reverse slot after its own slots).
+/// True when some particle with entries of its own is also the partner of
+/// an entry whose owner is stored after it (its sums in list order then take
+/// terms of its own entries before those of that owner).
 bool has_owner_stored_after(const dem::NeighborList& list);
 
 }  // namespace vt::test
