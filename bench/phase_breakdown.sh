@@ -3,7 +3,7 @@
 # phase timers, dem/phase_times.h), in interleaved rounds: each round times
 # one thread, then two, on the same tiled sample. Prints, per thread count,
 # the medians over the rounds of each thread's microseconds per step in
-# each phase (prepare, pairs, sums, integrate) and outside its own
+# each phase (prepare, pairs, integrate) and outside its own
 # work inside the parallel regions (waits: forming the team, barriers,
 # the other thread's lead), the two-thread waits split into imbalance (and
 # its steady part) and overhead, and the median of the rounds' speed-ups.
@@ -34,7 +34,7 @@ phase_us() {
       '$1 == k { for (i = 2; i < NF; i += 2) if ($i == ph) printf "%.1f\n", 1e6 * $(i + 1) / steps }' "${work}/$1_${r}"
   done
 }
-phases=(prepare pairs sums integrate waits)
+phases=(prepare pairs integrate waits)
 echo "particles $(col 1 particles | head -1); microseconds per step, medians of ${R} rounds"
 printf '%-10s' threads; printf ' %9s' "${phases[@]}" us/p-step; echo
 for t in 1 2; do

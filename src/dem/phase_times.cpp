@@ -72,7 +72,6 @@ const char* PhaseTimes::name(Phase p) {
   switch (p) {
     case Prepare: return "prepare";
     case Pairs: return "pairs";
-    case Sums: return "sums";
     case Integrate: return "integrate";
     case kPhaseCount: break;
   }

@@ -5,12 +5,11 @@
 //     totals) and overhead, against hand sums;
 //   - on spatially sorted sphere and spheroid packings stepped by Simulation
 //     on one and on two threads: every thread of the team times its own pair
-//     loop and its integration (> 0), on two threads its preparation and its
-//     sums too, no thread's phases exceed the regions that hold them
+//     loop and its integration (> 0), on two threads its preparation (its
+//     sums zeroed) too, no thread's phases exceed the regions that hold them
 //     (waits >= 0: the regions are timed around the team, the phases inside
 //     it, with the same clock), the team's mean waits are imbalance +
-//     overhead, the sums of two threads are completed (edge particles and
-//     tails occur), and reset_phase_times() starts from zero.
+//     overhead, and reset_phase_times() starts from zero.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -33,7 +32,7 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   pt.add(0, PhaseTimes::Pairs, 1.5);
   pt.add(0, PhaseTimes::Integrate, 0.25);
   pt.add(0, PhaseTimes::Pairs, 0.5);
-  pt.add(1, PhaseTimes::Sums, 0.125);
+  pt.add(1, PhaseTimes::Prepare, 0.125);
   pt.add_region(PhaseTimes::ForceRegion, 2.5);
   pt.add_region(PhaseTimes::IntegrationRegion, 0.5);
   EXPECT_EQ(pt.seconds(0, PhaseTimes::Pairs), 2.0);
@@ -49,7 +48,7 @@ TEST(PhaseTimes, BusyIsTheSumOfThePhasesAndWaitsTheRegionsLessBusy) {
   EXPECT_EQ(pt.busy(0), 0.0);
   EXPECT_EQ(pt.region(PhaseTimes::ForceRegion), 0.0);
   EXPECT_EQ(pt.threads(), 2);
-  EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Sums), "sums");
+  EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Prepare), "prepare");
   EXPECT_STREQ(PhaseTimes::name(PhaseTimes::Integrate), "integrate");
 }
 
@@ -58,7 +57,7 @@ TEST(PhaseTimes, WaitsSplitIntoImbalanceSteadyPartAndOverhead) {
   pt.ensure_threads(3);  // thread 2 never in a team
   // force region, step 1: thread 0 busy 3, thread 1 busy 1, wall 3.5
   pt.add(0, PhaseTimes::Pairs, 2.0);
-  pt.add(0, PhaseTimes::Sums, 1.0);
+  pt.add(0, PhaseTimes::Prepare, 1.0);
   pt.add(1, PhaseTimes::Pairs, 1.0);
   pt.add_region(PhaseTimes::ForceRegion, 3.5);
   // integration, step 1: 0.5 and 0.5, wall 0.75
@@ -118,10 +117,8 @@ void check_steps_on(const SimulationState& start, int threads) {
     EXPECT_GE(pt.waits(t), 0.0) << at << ": phases outside their regions";
     EXPECT_LE(pt.seconds(t, PhaseTimes::Integrate), pt.region(PhaseTimes::IntegrationRegion)) << at;
     if (threads > 1) {
-      // every thread zeroes its own sums; none has sums to make after its
-      // pair loop (ghosts, split_sums.h)
+      // every thread zeroes its own sums
       EXPECT_GT(pt.seconds(t, PhaseTimes::Prepare), 0.0) << at;
-      EXPECT_EQ(pt.seconds(t, PhaseTimes::Sums), 0.0) << at;
     }
   }
   // the team's mean waits split into imbalance and overhead, step by step

@@ -14,16 +14,13 @@
 // regions it missed as waits.
 //
 // Phases (ContactForces::compute and LeapfrogIntegrator::advance):
-//   Prepare   zeroing the thread's force and torque sums (several threads;
-//             one thread zeroes them before the region, untimed); spheroids:
+//   Prepare   zeroing the thread's force and torque sums; spheroids:
 //             their support data (SpheroidSupport) for this evaluation; several
 //             threads: the plan of runs and ghosts when it is remade, and
 //             the ghosts' per-entry state taken from the list (one thread
 //             does it while the others wait)
 //   Pairs     the thread's own pair loop (its run of chunks; on several
 //             threads with its ghosts, split_sums.h)
-//   Sums      the gather (one thread, gather mode; several threads have
-//             nothing to add after their pair loops since session 36)
 //   Integrate the leapfrog step of the thread's particles (eq. 2)
 // Waits, step by step (add_region, once per region and step, serially):
 // with b_t the busy seconds thread t added since the last add_region (this
@@ -53,7 +50,7 @@ namespace vt::dem {
 
 class PhaseTimes {
  public:
-  enum Phase : int { Prepare = 0, Pairs, Sums, Integrate, kPhaseCount };
+  enum Phase : int { Prepare = 0, Pairs, Integrate, kPhaseCount };
   enum Region : int { ForceRegion = 0, IntegrationRegion, kRegionCount };
 
   /// Slots for at least `threads` threads (call serially, before a region).
@@ -82,7 +79,7 @@ class PhaseTimes {
   double steady_imbalance(Region r) const;
   /// Sum over steps of region r's wall time less its slowest thread's busy time [s].
   double overhead(Region r) const { return overhead_[r]; }
-  /// "prepare", "pairs", "sums", "integrate".
+  /// "prepare", "pairs", "integrate".
   static const char* name(Phase p);
 
  private:
