@@ -23,7 +23,7 @@ Vec3 axis_stiffness_of_list(const Simulation& sim) {
   // The contacts of each block of entries are listed first without a jump
   // per entry (in contact or not is a coin flip for the branch predictor),
   // from the one-byte contact flags (PairData::active: 1 for every entry
-  // with half_overlap > 0; the pair state is a cache line per entry); their
+  // with half_overlap > 0; the pair state is half a cache line per entry); their
   // inputs (branch d, force, overlap) are gathered one by one, the
   // factors of each term, d_i^2 and K_n n_i^2 + K_t (1 - n_i^2), computed by
   // one loop without jumps (SIMD: the square root and both divisions 8

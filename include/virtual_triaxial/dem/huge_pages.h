@@ -3,7 +3,7 @@
 //
 // At 10^4-10^5 particles the step's working set (10-100 MB) exceeds what the
 // data TLB covers with 4 KiB pages (about 2000 entries = 8 MiB), so the
-// scattered partner reads of the contact loop and the gather miss the TLB
+// scattered partner reads of the contact loop miss the TLB
 // as well as the caches. Backing those arrays with 2 MiB pages removes most
 // of the TLB misses. These are hints to the kernel (madvise): where THP is
 // disabled, unsupported or the memory is fragmented they do nothing, and the

@@ -2,7 +2,7 @@
 //
 // The DEM core walks particles in storage order and, for each one, its
 // neighbours; when storage order follows space, those neighbours sit close by
-// in memory and the force loop, the gather and the integrator stream through
+// in memory and the force loop and the integrator stream through
 // the caches. generate_cloud() returns particles by decreasing radius, i.e.
 // spatially random, which at 1e5 particles makes almost every neighbour
 // access a cache (and TLB) miss.
