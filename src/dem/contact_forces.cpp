@@ -80,6 +80,11 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
   if (spheroids && pd.spheroid.size() != pd.size())
     throw std::logic_error("contact forces: neighbour list without spheroid pair states");
   if (spheroids) bodies_.resize(n);
+  force.resize(n);
+  torque.resize(n);
+  // The pair loops sum the particles: one thread all of them, a team's
+  // threads their runs' (own_begin, own_span set per thread below); each
+  // zeroes the sums it makes.
   PairInputs in{p.frac.data(),     p.velocity.data(),     p.omega.data(),
                     p.radius.data(),   list.offsets().data(), list.owners().data(),
                     pd.partner.data(), pd.spring.data(),      pd.state.data(),
@@ -87,16 +92,9 @@ ContactSums ContactForces::compute(const Particles& p, const PeriodicCell& cell,
                     sleep_ ? motion_clock_ : std::numeric_limits<double>::infinity(), sleep_,
                     p.shape.data(),    pd.spheroid.data(),    cell.h(),
                     cell.velocity_gradient(),                 law,
-                    dt,                nullptr,               nullptr,
+                    dt,                force.data(),          torque.data(),
                     p.mass.data(),     viscous_a_};
   ContactSums* sums = chunk_sums_.data();
-  force.resize(n);
-  torque.resize(n);
-  // The pair loops sum the particles: one thread all of them, a team's
-  // threads their runs' (own_begin, own_span set per thread below); each
-  // zeroes the sums it makes.
-  in.force_out = force.data();
-  in.torque_out = torque.data();
   if (static_cast<int>(scratch_.size()) < omp_get_max_threads())
     scratch_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   Scratch* scratch = scratch_.data();

@@ -118,9 +118,13 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
   std::vector<std::int32_t> offsets(static_cast<std::size_t>(n) + 1, 0);
   {
     std::int32_t i = 0;
+    std::int64_t total = 0;  // entries are indexed by int32
     for (const auto& ch : chunks)
-      for (std::size_t k = 0; k < ch.size(); k += static_cast<std::size_t>(ch[k]) + 1, ++i)
-        offsets[static_cast<std::size_t>(i) + 1] = offsets[static_cast<std::size_t>(i)] + ch[k];
+      for (std::size_t k = 0; k < ch.size(); k += static_cast<std::size_t>(ch[k]) + 1, ++i) {
+        total += ch[k];
+        if (total > INT32_MAX) throw std::runtime_error("neighbour list: more than 2^31 - 1 pairs are not supported");
+        offsets[static_cast<std::size_t>(i) + 1] = static_cast<std::int32_t>(total);
+      }
   }
   const bool spheroids = p.has_spheroids();
   PairData next;
@@ -165,8 +169,6 @@ void NeighborList::build(const Particles& p, const PeriodicCell& cell) {
 void NeighborList::build_owners(const Particles& p) {
   const std::size_t n = p.size();
   const std::size_t npairs = pairs_.size();
-  if (npairs >= (std::size_t{1} << 31))
-    throw std::runtime_error("neighbour list: more than 2^31 - 1 pairs are not supported");
   reserve_huge(owners_, npairs + npairs / 8);
   owners_.resize(npairs);
   for (std::size_t i = 0; i < n; ++i)

@@ -257,11 +257,6 @@ int main(int argc, char** argv) {
     if (const auto& g = sim.thread_governor(); g && g->max_threads() > 1)
       std::fprintf(stderr, "triax_run: threads chosen at run time: %lld steps on 1, %lld on %d\n",
                    static_cast<long long>(g->steps_one()), static_cast<long long>(g->steps_max()), g->max_threads());
-    if (!a.governor_log.empty()) {
-      vt::io::write_text_atomic(a.governor_log, governor_log.text());
-      if (!a.quiet)
-        std::fprintf(stderr, "triax_run: %zu governor blocks in %s\n", governor_log.blocks(), a.governor_log.c_str());
-    }
     if (report.verdict == vt::protocol::Verdict::Unstable) {
       const std::string path = a.out + ".last_good.h5";
       recorder.save_sample(path, report.last_good ? *report.last_good : initial, scene);
@@ -272,6 +267,19 @@ int main(int argc, char** argv) {
     if (series) {
       std::fprintf(stderr, "triax_run: %zu specimen snapshots in %s\n", series->count(), a.specimen.c_str());
       render_sections(a.specimen, a.quiet);
+    }
+    if (!a.governor_log.empty()) {  // a diagnostic, written last: a failure to write it only warns
+      try {
+        vt::io::write_text_atomic(a.governor_log, governor_log.text());
+        if (!a.quiet)
+          std::fprintf(stderr, "triax_run: %zu governor blocks in %s%s\n", governor_log.blocks(),
+                       a.governor_log.c_str(),
+                       sim.thread_governor() && sim.thread_governor()->max_threads() > 1
+                           ? ""
+                           : " (at most one thread here: OMP_NUM_THREADS or too few chunks, so no blocks)");
+      } catch (const vt::io::WriteError& e) {
+        std::fprintf(stderr, "triax_run: warning: --governor-log not written: %s\n", e.what());
+      }
     }
     std::printf("%s\n", vt::io::run_summary_json(report, sim, a.out).c_str());
     switch (report.verdict) {

@@ -67,12 +67,33 @@ TEST(Restart, ResultIsIndependentOfThreadCount) {
   expect_same_state(one.state(), two.state());
 }
 
-// One thread may sum each particle's forces inside the pair loop; more
+// A team of one thread while omp_get_max_threads() says two (parallel
+// regions made inactive, as an enclosing parallel region or OpenMP's
+// dynamic teams can): the one-thread path, every particle's sums zeroed and
+// made in its pair loop, the one-thread bits.
+TEST(Restart, ATeamOfOneWhereTwoArePlannedGivesTheOneThreadBits) {
+  const SimulationState start = vt::test::spatially_sorted(loaded_packing(1600));
+  omp_set_num_threads(1);
+  Simulation one(start);
+  ASSERT_EQ(one.run(200), 200) << one.failure();
+  omp_set_num_threads(2);
+  const int levels = omp_get_max_active_levels();
+  omp_set_max_active_levels(0);
+  Simulation serialized(start);
+  ASSERT_EQ(serialized.run(100), 100) << serialized.failure();
+  EXPECT_FALSE(serialized.split_used());
+  omp_set_max_active_levels(levels);
+  ASSERT_EQ(serialized.run(100), 100) << serialized.failure();  // then a real team
+  EXPECT_TRUE(serialized.split_used());
+  omp_set_num_threads(omp_get_num_procs());
+  expect_same_state(one.state(), serialized.state());
+}
+
+// One thread sums each particle's forces inside the pair loop; more
 // threads evaluate runs of 512-particle chunks in parallel, each summing its
-// own particles, and after a barrier gather the partners of pairs owned in
-// a lower run again (edge particles) and add the terms of pairs owned in a
-// higher run to the others from their pair states (tails). Both add the
-// same terms in the same (list) order, so over a sample of
+// own particles, with the pairs owned in another run whose partner is home
+// evaluated again as ghosts before and after its chunks (split_sums.h).
+// Both add the same terms in the same (list) order, so over a sample of
 // several chunks, where pairs cross chunk boundaries both ways, the runs
 // agree bit for bit. Spatially sorted storage (ids no longer in storage
 // order), so that particles also have entries of owners stored after them.

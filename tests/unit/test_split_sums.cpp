@@ -6,7 +6,7 @@
 //     a ghost of the partner's thread, those owned in lower runs first,
 //     each part in list order, with contacts among both parts, spheres and
 //     spheroids (the sums themselves:
-//     Restart.PairLoopSumsEqualTheGatherAcrossChunks,
+//     Restart.PairLoopSumsAcrossChunksDoNotDependOnTheThreads,
 //     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
 //   - the plan follows the runs, N and the list's rebuilds.
 #include <gtest/gtest.h>

@@ -46,6 +46,7 @@ struct alignas(32) PairState {
   Vec3 force;                ///< total contact force on j [N]; zero when not in contact
   double half_overlap = 0;   ///< delta/2 [m]; 0 when not in contact
 };
+static_assert(sizeof(PairState) == 32, "PairState: half a cache line per list entry");
 
 /// Per-entry state of a pair that involves a spheroid (only kept when the
 /// particles include spheroids): one cache line.
@@ -57,6 +58,7 @@ struct alignas(64) SpheroidPairState {
   /// finite and >= 0 (the pair loop sets it to 0 when the pair leaves reach).
   double wake = 0.0;
 };
+static_assert(sizeof(SpheroidPairState) == 64, "SpheroidPairState: one cache line per list entry");
 
 /// Read-only view of one field of PairData::state, indexed by list entry
 /// (pd.force[e], pd.half_overlap[e] read as if they were arrays).

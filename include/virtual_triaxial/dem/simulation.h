@@ -150,11 +150,12 @@ class Simulation {
   bool split_used() const { return contact_forces_.split_used(); }
   /// Chunks per thread of the pair loop and the integrator (thread_runs.h).
   const ThreadRuns& thread_runs() const { return contact_forces_.thread_runs(); }
-  /// The same, to steer the cut (tests: a thread's busy time recorded
-  /// between steps); the cut changes the time only, never the results.
+  /// The same, mutable: for tests that steer the cut (a thread's busy time
+  /// recorded between steps, support/thread_switching.h); the cut changes
+  /// the time only, never the results. Not for use between a step's phases.
   ThreadRuns& thread_runs() { return contact_forces_.thread_runs(); }
   /// Where the steps' time went per thread and phase since the last reset
-  /// (phase_times.h: pair loop, sums, integration, barrier waits).
+  /// (phase_times.h: preparation, pair loop, integration, barrier waits).
   const PhaseTimes& phase_times() const { return contact_forces_.phase_times(); }
   void reset_phase_times() { contact_forces_.phase_times().reset(); }
 
