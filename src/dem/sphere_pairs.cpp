@@ -185,20 +185,18 @@ ContactSums evaluate_pairs(const PairInputs& in, std::int32_t i_begin, std::int3
       store(st.force, f);
       st.half_overlap = hov;
       store(in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
-      {  // both particles' sums, in list order
-        // a particle of another thread's run (the owner of a ghost, the
-        // partner of a pair crossing the runs): summed there, by that
-        // thread's pair loop or its ghost of this pair (split_sums.h)
-        const bool home_i = in.home(i), home_j = in.home(j);
-        Vec3& fi = home_i ? in.force_out[i] : sink_f;
-        Vec3& ti = home_i ? in.torque_out[i] : sink_t;
-        fi -= f;
-        ti = fused_multiply_add(L.li[k], m, ti);
-        Vec3& fj = home_j ? in.force_out[j] : sink_f;
-        Vec3& tj = home_j ? in.torque_out[j] : sink_t;
-        fj += f;
-        tj = fused_multiply_add(L.lj[k], m, tj);
-      }
+      // a particle of another thread's run (the owner of a ghost, the
+      // partner of a pair crossing the runs): summed there, by that
+      // thread's pair loop or its ghost of this pair (split_sums.h)
+      const bool home_i = in.home(i), home_j = in.home(j);
+      Vec3& fi = home_i ? in.force_out[i] : sink_f;
+      Vec3& ti = home_i ? in.torque_out[i] : sink_t;
+      fi -= f;
+      ti = fused_multiply_add(L.li[k], m, ti);
+      Vec3& fj = home_j ? in.force_out[j] : sink_f;
+      Vec3& tj = home_j ? in.torque_out[j] : sink_t;
+      fj += f;
+      tj = fused_multiply_add(L.lj[k], m, tj);
       in.active[e] = hov != 0.0 ? 1 : 0;
       sums.add<Measure, Viscous>(L, k, f, dt);
       if constexpr (Measure) sums.add_stiffness(stiffness, k);

@@ -378,19 +378,17 @@ ContactSums evaluate_pairs_spheroid(const PairInputs& in, std::int32_t i_begin, 
       st.half_overlap = 0.5 * L.delta[k];
       store(lane_in.spring[e], Vec3{L.sx[k], L.sy[k], L.sz[k]});
       lane_in.active[e] = 1;
-      {  // both particles' sums, in list order
-        // a particle of another thread's run (the owner of a ghost, the
-        // partner of a pair crossing the runs): summed there (split_sums.h)
-        const bool home_i = lane_in.home(i), home_j = lane_in.home(j);
-        Vec3& fi = home_i ? lane_in.force_out[i] : sink_f;
-        Vec3& ti = home_i ? lane_in.torque_out[i] : sink_t;
-        fi -= f;
-        ti += mi;
-        Vec3& fj = home_j ? lane_in.force_out[j] : sink_f;
-        Vec3& tj = home_j ? lane_in.torque_out[j] : sink_t;
-        fj += f;
-        tj += mj;
-      }
+      // a particle of another thread's run (the owner of a ghost, the
+      // partner of a pair crossing the runs): summed there (split_sums.h)
+      const bool home_i = lane_in.home(i), home_j = lane_in.home(j);
+      Vec3& fi = home_i ? lane_in.force_out[i] : sink_f;
+      Vec3& ti = home_i ? lane_in.torque_out[i] : sink_t;
+      fi -= f;
+      ti += mi;
+      Vec3& fj = home_j ? lane_in.force_out[j] : sink_f;
+      Vec3& tj = home_j ? lane_in.torque_out[j] : sink_t;
+      fj += f;
+      tj += mj;
       lane_sums.add<Measure, Viscous>(L, k, f, dt);
       if constexpr (Measure) lane_sums.add_stiffness(stiffness, k);
       ++lane_contacts;

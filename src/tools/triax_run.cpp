@@ -254,9 +254,12 @@ int main(int argc, char** argv) {
     recorder.finish(report, sim);
     std::error_code ec;  // finished: nothing to resume (a full disk keeps the checkpoint: exit 6 below)
     fs::remove(checkpoints.path(), ec);
-    if (const auto& g = sim.thread_governor(); g && g->max_threads() > 1)
+    const auto& governor = sim.thread_governor();
+    const bool governed = governor && governor->max_threads() > 1;  // the count chosen at run time
+    if (governed)
       std::fprintf(stderr, "triax_run: threads chosen at run time: %lld steps on 1, %lld on %d\n",
-                   static_cast<long long>(g->steps_one()), static_cast<long long>(g->steps_max()), g->max_threads());
+                   static_cast<long long>(governor->steps_one()), static_cast<long long>(governor->steps_max()),
+                   governor->max_threads());
     if (report.verdict == vt::protocol::Verdict::Unstable) {
       const std::string path = a.out + ".last_good.h5";
       recorder.save_sample(path, report.last_good ? *report.last_good : initial, scene);
@@ -274,9 +277,7 @@ int main(int argc, char** argv) {
         if (!a.quiet)
           std::fprintf(stderr, "triax_run: %zu governor blocks in %s%s\n", governor_log.blocks(),
                        a.governor_log.c_str(),
-                       sim.thread_governor() && sim.thread_governor()->max_threads() > 1
-                           ? ""
-                           : " (at most one thread here: OMP_NUM_THREADS or too few chunks, so no blocks)");
+                       governed ? "" : " (at most one thread here: OMP_NUM_THREADS or too few chunks, so no blocks)");
       } catch (const vt::io::WriteError& e) {
         std::fprintf(stderr, "triax_run: warning: --governor-log not written: %s\n", e.what());
       }
