@@ -31,6 +31,7 @@ import math
 import threading
 
 import rospy
+from rig_service_calls import call_idempotent, release_axes
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, MomentIndex, RateState
 from virtual_triaxial.srv import (ClaimAxes, ConfigureRate, ConfigureRateResponse, GetMemory, GetMemoryResponse,
@@ -187,8 +188,8 @@ class PyRateController:
             if self.claimed:
                 return TriggerResponse(True, "already enabled")
             try:
-                r = self.claim(owner=self.owner, axes=[self.axis])
-            except rospy.ServiceException as e:
+                r, _ = call_idempotent(self.claim, owner=self.owner, axes=[self.axis])
+            except (rospy.ServiceException, rospy.ROSException) as e:
                 return TriggerResponse(False, "claim_axes: dem_node does not answer (%s)" % e)
             if not r.success:
                 return TriggerResponse(False, "claim_axes refused: " + r.message)
@@ -203,10 +204,10 @@ class PyRateController:
             if self.claimed:
                 self.claimed = False
                 try:
-                    r = self.release_srv(owner=self.owner, axes=[self.axis])
-                    if not r.success:
-                        why = "release_axes refused: " + r.message
-                except rospy.ServiceException as e:
+                    refusal = release_axes(self.release_srv, self.owner, [self.axis])
+                    if refusal:
+                        why = "release_axes refused: " + refusal
+                except (rospy.ServiceException, rospy.ROSException) as e:
                     why = "release_axes: dem_node does not answer (%s)" % e
             self.law = None
             return TriggerResponse(not why, why or "disabled; axis released")

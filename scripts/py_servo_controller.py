@@ -19,7 +19,10 @@ Wiring (relative to the node's namespace, i.e. the rig's): subscribes
 `stress`, publishes `cell_command` and `servo_state`, calls dem_node's
 `get_info`, `claim_axes`, `release_axes`. The claim is made only once both
 topic connections to dem_node exist, so in lockstep mode no state of a
-claimed tick is missed.
+claimed tick is missed. Calls whose answer is lost are made again
+(rig_service_calls.py); the newest state received while enabled and
+unclaimed is answered once a claim succeeds, if its tick is after the
+claim's (dem_node ran an earlier claim whose answer was lost).
 
 Per Stress message of tick k (k > the tick returned by claim_axes): targets
 from the ramp at the message's simulation time, then the stiffness-normalised
@@ -49,6 +52,7 @@ import time
 import warnings
 
 import rospy
+from rig_service_calls import call_idempotent, release_axes
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, ServoState, Stress
 from virtual_triaxial.srv import (ClaimAxes, GetInfo, GetMemory, GetMemoryResponse, ReleaseAxes, SetAxisTargets,
@@ -158,6 +162,7 @@ class PyServoController:
         self.last_tick = 0
         self.has_tick = False
         self.claim_tick = 0
+        self.pending = None  # newest Stress received while enabled and not claimed
         self.last_wait_reason = ""
 
         # Subscriber first so dem_node sees our connection as early as possible.
@@ -232,7 +237,7 @@ class PyServoController:
         if self.stress_sub.get_num_connections() == 0 or self.command_pub.get_num_connections() == 0:
             return "waiting for dem_node's stress / cell_command connections"
         try:
-            info = self.info_srv()
+            info, _ = call_idempotent(self.info_srv)
         except (rospy.ServiceException, rospy.ROSException) as e:
             return "get_info not available yet (%s)" % e
         try:
@@ -242,7 +247,7 @@ class PyServoController:
         self.law = law
         self.last_time = info.time
         try:
-            r = self.claim_srv(owner=self.owner, axes=list(self.axes))
+            r, _ = call_idempotent(self.claim_srv, owner=self.owner, axes=list(self.axes))
         except (rospy.ServiceException, rospy.ROSException) as e:
             return "claim_axes not available yet (%s)" % e
         if not r.success:
@@ -252,6 +257,11 @@ class PyServoController:
         self.state.max_strain_rate = law.max_strain_rate
         rospy.loginfo("%s: '%s' controls axes %s (proportional, gain %g, |eps'| <= %g, T0 %.4g s)", NODE,
                       self.owner, axes_text(self.axes), self.gain, self.max_dimensionless_rate, info.t0)
+        # A state that came while the claim was pending, for a tick dem_node
+        # waits on us for (an earlier claim of ours took effect, its answer lost).
+        pending, self.pending = self.pending, None
+        if pending is not None and pending.tick > self.claim_tick:
+            self.answer(pending)
         return ""
 
     def release(self):
@@ -259,12 +269,13 @@ class PyServoController:
         if not self.claimed:
             return ""
         try:
-            r = self.release_srv(owner=self.owner, axes=list(self.axes))
+            refusal = release_axes(self.release_srv, self.owner, self.axes)
         except (rospy.ServiceException, rospy.ROSException):
             return "release_axes not available"
         self.claimed = False  # refused means we do not own them any more either
-        if not r.success:
-            return "release_axes refused: " + r.message
+        self.pending = None
+        if refusal:
+            return "release_axes refused: " + refusal
         return ""
 
     def retry_loop(self):
@@ -291,34 +302,42 @@ class PyServoController:
                 rospy.logwarn("%s: tick %d after %d: dem_node restarted, claiming the axes again", NODE, tick,
                               previous)
                 self.claimed = False
+                self.pending = None
                 return
+            if self.enabled and not self.claimed:
+                self.pending = msg  # answered if the claim, when made, makes it ours
             if not self.enabled or not self.claimed or self.law is None:
                 return
             if tick <= self.claim_tick:  # a backlog from before the claim needs no answer
                 return
-            s = msg.stress
-            k = msg.stiffness
-            targets = self.ramp.value(msg.time)
-            try:
-                rates, errors, sat = self.law.update(msg.control_period, (s[0], s[4], s[8]), k, targets)
-            except ValueError as e:
-                rospy.logerr_throttle(1.0, "%s: tick %d: no command: servo 'proportional': %s" % (NODE, tick, e))
-                return
-            cmd = self.cmd
-            cmd.header = msg.header
-            cmd.tick = tick
-            cmd.strain_rate = [rates[a] for a in self.axes]
-            self.command_pub.publish(cmd)
+            self.answer(msg)
 
-            st = self.state
-            st.header = msg.header
-            st.tick = tick
-            st.enabled = self.enabled
-            st.targets = [targets[i] if i in self.axes else 0.0 for i in range(3)]  # 0 on uncontrolled axes
-            st.errors = errors
-            st.saturated = sat
-            st.strain_rate = rates
-            self.state_pub.publish(st)
+    def answer(self, msg):
+        """The law's command (and servo_state) for the state of tick msg.tick. Caller holds the lock."""
+        tick = msg.tick
+        s = msg.stress
+        k = msg.stiffness
+        targets = self.ramp.value(msg.time)
+        try:
+            rates, errors, sat = self.law.update(msg.control_period, (s[0], s[4], s[8]), k, targets)
+        except ValueError as e:
+            rospy.logerr_throttle(1.0, "%s: tick %d: no command: servo 'proportional': %s" % (NODE, tick, e))
+            return
+        cmd = self.cmd
+        cmd.header = msg.header
+        cmd.tick = tick
+        cmd.strain_rate = [rates[a] for a in self.axes]
+        self.command_pub.publish(cmd)
+
+        st = self.state
+        st.header = msg.header
+        st.tick = tick
+        st.enabled = self.enabled
+        st.targets = [targets[i] if i in self.axes else 0.0 for i in range(3)]  # 0 on uncontrolled axes
+        st.errors = errors
+        st.saturated = sat
+        st.strain_rate = rates
+        self.state_pub.publish(st)
 
     # ---- services ---------------------------------------------------------------------------
     def on_set_confining_pressure(self, rq):

@@ -65,6 +65,12 @@ std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>&
   return "";
 }
 
+std::optional<std::uint64_t> AxisArbiter::claimed_at(const std::string& owner) const {
+  const auto it = owners_.find(owner);
+  if (it == owners_.end()) return std::nullopt;
+  return it->second.claimed_at;
+}
+
 std::string AxisArbiter::release(const std::string& owner, const std::vector<int>& axes) {
   if (owner.empty()) return "owner: must not be empty";
   if (owners_.find(owner) == owners_.end()) return "owner: '" + owner + "' owns no axis";

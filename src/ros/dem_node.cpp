@@ -282,7 +282,8 @@ bool DemNode::on_set_strain_rate(virtual_triaxial::SetStrainRate::Request& rq,
 bool DemNode::on_claim(virtual_triaxial::ClaimAxes::Request& rq, virtual_triaxial::ClaimAxes::Response& rs) {
   rs.message = arbiter_.claim(rq.owner, to_axes(rq.axes), tick_);
   rs.success = rs.message.empty();
-  rs.tick = tick_;
+  // A repeated claim answers its first claim's tick (axis_arbiter.h).
+  rs.tick = rs.success ? arbiter_.answer_tick(rq.owner, tick_) : tick_;
   if (rs.success) rs.message = "claimed by '" + rq.owner + "'";
   return true;
 }

@@ -18,6 +18,7 @@
 #include "virtual_triaxial/SetConfiningPressure.h"
 #include "virtual_triaxial/SetServoAxes.h"
 #include "virtual_triaxial/SetStrainRate.h"
+#include "virtual_triaxial/io/number_text.h"
 #include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/ros/measure_messages.h"
@@ -179,6 +180,30 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
   if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
     start_rate_controller(st, judge);
     if (resume) restore_controller_memory(rate_controller_, resume->rate_controller_memory);
+  }
+  std::vector<int> closed = b.servo_axes();
+  if (rate_controller_on_) closed.push_back(st.axial_axis);
+  wait_for_owners(st.name, closed);
+}
+
+void ProtocolSession::wait_for_owners(const std::string& stage, const std::vector<int>& axes) {
+  // A servo may answer ~enable before its claim is made (it retries on its
+  // own); the stage must not start before: its first tick would run open loop,
+  // and a claim made while dem_node runs joins at a tick the wall clock picks.
+  const auto t0 = Clock::now();
+  while (true) {
+    virtual_triaxial::GetInfo info;
+    call("get_info", info);
+    std::string open;
+    for (int a : axes)
+      if (info.response.axis_owners[static_cast<std::size_t>(a)].empty())
+        open += (open.empty() ? "" : ", ") + std::to_string(a);
+    if (open.empty()) return;
+    if (seconds_since(t0) > rig_timeout_)
+      throw RigError("stage '" + stage + "': cell axes " + open + " have no closed-loop owner " +
+                     io::number_text(rig_timeout_, 3) + " s after the controllers were enabled (is " + servo_ +
+                     " claiming them? see its log)");
+    ::ros::WallDuration(0.02).sleep();
   }
 }
 

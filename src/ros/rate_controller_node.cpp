@@ -1,6 +1,7 @@
 // RateControllerNode: a rate strategy behind ROS. See rate_controller_node.h.
 #include "virtual_triaxial/ros/rate_controller_node.h"
 #include "virtual_triaxial/ros/controller_memory.h"
+#include "virtual_triaxial/ros/idempotent_call.h"
 #include "virtual_triaxial/ros/lockstep_subscription.h"
 
 #include <cmath>
@@ -99,7 +100,7 @@ bool RateControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigge
   virtual_triaxial::ClaimAxes claim;
   claim.request.owner = owner_;
   claim.request.axes.push_back(static_cast<std::uint8_t>(axis_));
-  if (!claim_client_.call(claim)) {
+  if (!call_idempotent(claim_client_, claim)) {
     rs.message = "claim_axes: dem_node does not answer";
     return true;
   }
@@ -123,8 +124,9 @@ std::string RateControllerNode::release() {
   rel.request.owner = owner_;
   rel.request.axes.push_back(static_cast<std::uint8_t>(axis_));
   claimed_ = false;
-  if (!release_client_.call(rel)) return "release_axes: dem_node does not answer";
-  if (!rel.response.success) return "release_axes refused: " + rel.response.message;
+  const ReleaseAnswer a = call_release_axes(release_client_, rel);
+  if (!a.answered) return "release_axes: dem_node does not answer";
+  if (!a.released) return "release_axes refused: " + a.refusal;
   return "";
 }
 

@@ -1,6 +1,7 @@
 // ServoControllerNode: servo strategy behind ROS. See servo_controller_node.h.
 #include "virtual_triaxial/ros/servo_controller_node.h"
 #include "virtual_triaxial/ros/controller_memory.h"
+#include "virtual_triaxial/ros/idempotent_call.h"
 #include "virtual_triaxial/ros/lockstep_subscription.h"
 
 #include <cmath>
@@ -197,7 +198,7 @@ std::string ServoControllerNode::try_claim() {
   if (stress_sub_.getNumPublishers() == 0 || command_pub_.getNumSubscribers() == 0)
     return "waiting for dem_node's stress / cell_command connections";
   virtual_triaxial::GetInfo info;
-  if (!info_client_.call(info)) return "get_info not available yet";
+  if (!call_idempotent(info_client_, info)) return "get_info not available yet";
   if (!(std::isfinite(info.response.t0) && info.response.t0 > 0.0)) return "get_info: T0 is not > 0";
   t0_ = info.response.t0;
   dem_max_dimensionless_rate_ = info.response.max_dimensionless_rate;
@@ -213,7 +214,7 @@ std::string ServoControllerNode::try_claim() {
   virtual_triaxial::ClaimAxes claim;
   claim.request.owner = owner_;
   claim.request.axes.assign(axes_.begin(), axes_.end());
-  if (!claim_client_.call(claim)) return "claim_axes not available yet";
+  if (!call_idempotent(claim_client_, claim)) return "claim_axes not available yet";
   if (!claim.response.success) return "claim_axes refused: " + claim.response.message;
   claim_tick_ = claim.response.tick;
   claimed_ = true;
@@ -221,6 +222,11 @@ std::string ServoControllerNode::try_claim() {
            "|delta eps'| <= %g per update, T0 %.4g s)",
            owner_.c_str(), axes_text(axes_).c_str(), strategy_name_.c_str(), params_.gain, params_.ki, params_.kd,
            max_dimensionless_rate_, max_rate_change_, info.response.t0);
+  // A state that came while the claim was pending, for a tick dem_node waits
+  // on us for (an earlier claim of ours took effect, its answer lost).
+  const virtual_triaxial::Stress::ConstPtr pending = std::move(pending_);
+  pending_.reset();
+  if (pending && pending->tick > claim_tick_) answer(*pending);
   return "";
 }
 
@@ -232,9 +238,11 @@ std::string ServoControllerNode::release() {
   // Asked even without a claim recorded here: dem_node may still list one
   // (a claim whose answer we did not see); then a refusal means none, as we think.
   const bool held = claimed_;
-  if (!release_client_.call(rel)) return held ? "release_axes not available" : "";
+  const ReleaseAnswer a = call_release_axes(release_client_, rel);
+  if (!a.answered) return held ? "release_axes not available" : "";
   claimed_ = false;  // refused means we do not own them any more either
-  if (!rel.response.success) return held ? "release_axes refused: " + rel.response.message : "";
+  pending_.reset();
+  if (!a.released) return held ? "release_axes refused: " + a.refusal : "";
   if (!held)
     ROS_WARN("servo_controller_node: released axes %s that dem_node still listed for '%s'", axes_text(axes_).c_str(),
              owner_.c_str());
@@ -264,28 +272,34 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
     ROS_WARN("servo_controller_node: tick %llu after %llu: dem_node restarted, claiming the axes again",
              static_cast<unsigned long long>(msg->tick), static_cast<unsigned long long>(previous));
     claimed_ = false;
+    pending_.reset();
     return;
   }
+  if (enabled_ && !claimed_) pending_ = msg;  // answered if the claim, when made, makes it ours
   if (!enabled_ || !claimed_ || !strategy_) return;
   // States published before the claim (a backlog in our queue) need no answer.
   if (msg->tick <= claim_tick_) return;
+  answer(*msg);
+}
+
+void ServoControllerNode::answer(const virtual_triaxial::Stress& state) {
   control::ServoInput in;
-  in.time = msg->time;
-  in.dt = msg->control_period;
-  in.stress = {msg->stress[0], msg->stress[4], msg->stress[8]};
-  in.stiffness = {msg->stiffness[0], msg->stiffness[1], msg->stiffness[2]};
+  in.time = state.time;
+  in.dt = state.control_period;
+  in.stress = {state.stress[0], state.stress[4], state.stress[8]};
+  in.stiffness = {state.stiffness[0], state.stiffness[1], state.stiffness[2]};
   control::ServoOutput out;
   try {
-    strategy_->set_targets(ramp_.value(msg->time));
+    strategy_->set_targets(ramp_.value(state.time));
     out = strategy_->update(in);
   } catch (const std::exception& e) {
     ROS_ERROR_THROTTLE(1.0, "servo_controller_node: tick %llu: no command: %s",
-                       static_cast<unsigned long long>(msg->tick), e.what());
+                       static_cast<unsigned long long>(state.tick), e.what());
     return;
   }
   virtual_triaxial::CellCommand cmd;
-  cmd.header = msg->header;
-  cmd.tick = msg->tick;
+  cmd.header = state.header;
+  cmd.tick = state.tick;
   cmd.owner = owner_;
   for (int a : axes_) {
     cmd.axes.push_back(static_cast<std::uint8_t>(a));
@@ -297,8 +311,8 @@ void ServoControllerNode::on_stress(const virtual_triaxial::Stress::ConstPtr& ms
   command_pub_.publish(boost::make_shared<virtual_triaxial::CellCommand>(std::move(cmd)));
 
   virtual_triaxial::ServoState st;
-  st.header = msg->header;
-  st.tick = msg->tick;
+  st.header = state.header;
+  st.tick = state.tick;
   st.strategy = strategy_->name();
   st.enabled = enabled_;
   const dem::Vec3 targets = strategy_->targets();

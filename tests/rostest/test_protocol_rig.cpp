@@ -293,33 +293,7 @@ TEST(ProtocolRig, RunLimitsRefuseTheSameValuesAsTriaxRun) {
   EXPECT_LE(i.tick, tick0 + 1) << "a refused goal ran the rig";
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_protocol_rig");
-  ros::NodeHandle nh, pnh("~");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  if (!pnh.getParam("protocols", g_protocols) || !pnh.getParam("sample", g_sample)) {
-    std::fprintf(stderr, "test_protocol_rig: ~protocols and ~sample must be set (protocol_rig.test)\n");
-    return 2;
-  }
-  char tmpl[] = "/tmp/vt_protocol_rig_XXXXXX";
-  const char* dir = mkdtemp(tmpl);
-  if (!dir) return 2;
-  g_tmp = dir;
-  int rc = 0;
-  {
-    Rig rig;
-    g_rig = &rig;
-    rc = RUN_ALL_TESTS();
-    g_rig = nullptr;
-  }
-  std::error_code ec;
-  fs::remove_all(g_tmp, ec);
-  spinner.stop();
-  ros::shutdown();
-  return rc;
-}
+int main(int argc, char** argv) { return run_rig_tests(argc, argv, "test_protocol_rig"); }
 
 // The adaptive rate strategy on the rig: the protocol node configures and
 // enables the rate controller (rate_controller_node; py_rate_controller.py in

@@ -1,6 +1,7 @@
 // Node-layer logic without a master: AxisArbiter (axis ownership, open-loop
 // rates, lockstep bookkeeping, refusals naming the field) and TargetRamp.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -40,6 +41,27 @@ TEST(AxisArbiter, ClaimsAreExclusiveAllOrNothingAndReleasable) {
   EXPECT_EQ(a.owner(0), "");
   EXPECT_EQ(a.owner(1), "");
   EXPECT_EQ(a.claim("other", {0}, 0), "") << "a released axis is free";
+}
+
+TEST(AxisArbiter, AClaimMadeAgainKeepsTheTickOfTheFirstClaim) {
+  // A controller whose claim's answer was lost (ros/ros_comm#1976) claims
+  // again a tick later: dem_node still waits on it from the first claim on,
+  // and claimed_at / answer_tick (what claim_axes answers) must say so.
+  AxisArbiter a = make();
+  EXPECT_FALSE(a.claimed_at("servo").has_value());
+  ASSERT_EQ(a.claim("servo", {0, 1}, 1), "");
+  ASSERT_EQ(a.claimed_at("servo"), std::optional<std::uint64_t>(1));
+  ASSERT_EQ(a.missing_owners(2), std::vector<std::string>{"servo"});
+  ASSERT_EQ(a.claim("servo", {0, 1}, 2), "") << "claimed again while tick 2 waits";
+  EXPECT_EQ(a.claimed_at("servo"), std::optional<std::uint64_t>(1)) << "the ticks waited on are unchanged";
+  EXPECT_EQ(a.answer_tick("servo", 2), 1u) << "claim_axes answers the first claim's tick";
+  EXPECT_EQ(a.answer_tick("other", 2), 2u) << "no claim: the tick the request came at";
+  EXPECT_EQ(a.missing_owners(2), std::vector<std::string>{"servo"});
+  ASSERT_EQ(a.claim("servo", {0, 1, 2}, 3), "");
+  EXPECT_EQ(a.claimed_at("servo"), std::optional<std::uint64_t>(3)) << "a new axis joins at its claim's tick";
+  EXPECT_TRUE(a.missing_owners(3).empty());
+  ASSERT_EQ(a.release("servo", {}), "");
+  EXPECT_FALSE(a.claimed_at("servo").has_value()) << "released: no claim";
 }
 
 TEST(AxisArbiter, AClaimWithARepeatedAxisIsRefusedNamingTheEntry) {

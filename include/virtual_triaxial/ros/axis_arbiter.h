@@ -25,6 +25,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,20 @@ class AxisArbiter {
   /// All-or-nothing claim at control tick `tick` (the last published tick).
   /// Empty `axes` registers `owner` as a lockstep participant without axes
   /// (it must answer every later tick; release with empty axes ends that).
+  /// Claiming the same axes again changes nothing: the claim is idempotent,
+  /// so a controller whose answer to a claim was lost may simply claim again.
   std::string claim(const std::string& owner, const std::vector<int>& axes, std::uint64_t tick);
+  /// The tick after which `owner` answers (its claim's, or a later one's
+  /// that added an axis); nullopt for an owner without a claim. This, not
+  /// the current tick, is what claim_axes answers: a claim repeated after
+  /// its first answer was lost (ros/ros_comm#1976) then tells the owner
+  /// which ticks dem_node waits on it for.
+  std::optional<std::uint64_t> claimed_at(const std::string& owner) const;
+  /// The tick claim_axes answers for a claim made at `tick`: claimed_at(owner)
+  /// once accepted, `tick` for a refused one.
+  std::uint64_t answer_tick(const std::string& owner, std::uint64_t tick) const {
+    return claimed_at(owner).value_or(tick);
+  }
   /// Empty `axes`: every axis of `owner`.
   std::string release(const std::string& owner, const std::vector<int>& axes);
   /// Open-loop rate [1/s] of an axis nobody owns.

@@ -25,6 +25,7 @@
 #include "virtual_triaxial/protocol/checkpoint_schedule.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/protocol/stage_runner.h"
+#include "virtual_triaxial/ros/idempotent_call.h"
 #include "virtual_triaxial/ros/tick_collector.h"
 
 namespace vt::ros {
@@ -127,6 +128,9 @@ class ProtocolSession {
   /// checkpoint's rates, the controllers' memories restored).
   void configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge,
                        const protocol::RunCheckpoint* resume);
+  /// Returns once dem_node lists a closed-loop owner for every axis of
+  /// `axes`; RigError naming the open axes after rig_timeout_.
+  void wait_for_owners(const std::string& stage, const std::vector<int>& axes);
   /// The rate controller's ~configure + ~enable for a stage whose strategy is not `fixed`.
   void start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge);
   /// The judge of stage `st`, with the specimen as dem_node has it now (or
@@ -185,17 +189,12 @@ void ProtocolSession::call(const std::string& name, Srv& srv) {
   ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
   if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
     throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
-  // A failed call is a transport failure (the servers answer refusals with
-  // success = false); every request the session makes is idempotent, so it
-  // is retried a few times before the test is given up.
-  bool called = false;
-  for (int attempt = 0; attempt < 5 && !called; ++attempt) {
-    if (attempt > 0) {
-      ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), attempt);
-      ::ros::WallDuration(0.2).sleep();
-    }
-    called = c.call(srv);
-  }
+  // Every request the session makes is idempotent (idempotent_call.h), so
+  // a call whose answer is lost is made again before the test is given up.
+  const CallRetry retry{5, 0.2};
+  const bool called = call_idempotent(c, srv, retry, [&](int k) {
+    ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), k);
+  }) > 0;
   if (!called) throw RigError(name + ": call failed (5 attempts)");
   if constexpr (!std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
     if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);

@@ -24,7 +24,12 @@
 // `stress`, publishes `cell_command` and `servo_state`, calls dem_node's
 // `get_info`, `claim_axes`, `release_axes`. Before claiming it waits until
 // both topic connections to dem_node exist, so in lockstep mode no state of
-// a claimed tick is missed.
+// a claimed tick is missed. A call whose answer is lost is made again
+// (idempotent_call.h); if dem_node ran a claim whose answer never came, the
+// state it then waits on may arrive before a later claim succeeds: the
+// newest state received while enabled and unclaimed is answered once a claim
+// succeeds, if its tick is after the claim's (claim_axes answers the first
+// claim's tick).
 //
 // Per Stress message of tick k: targets from the ramp at the message's
 // simulation time, ServoStrategy::update(time, dt, stress, stiffness), then a
@@ -110,6 +115,8 @@ class ServoControllerNode {
   std::string release();
   void on_retry(const ::ros::WallTimerEvent&);
   void on_stress(const virtual_triaxial::Stress::ConstPtr& msg);
+  /// The law's command (and servo_state) for the state of tick `state.tick`.
+  void answer(const virtual_triaxial::Stress& state);
   bool on_set_confining_pressure(virtual_triaxial::SetConfiningPressure::Request& rq,
                                  virtual_triaxial::SetConfiningPressure::Response& rs);
   bool on_set_axis_targets(virtual_triaxial::SetAxisTargets::Request& rq,
@@ -139,6 +146,9 @@ class ServoControllerNode {
   std::uint64_t last_tick_ = 0;  ///< tick of the newest Stress
   bool has_tick_ = false;
   std::uint64_t claim_tick_ = 0;  ///< dem_node's tick when our claim took effect
+  /// The newest state received while enabled and not claimed: after a claim
+  /// whose first answer was lost, dem_node already waits on us for it.
+  virtual_triaxial::Stress::ConstPtr pending_;
   std::string last_wait_reason_;
 
   /// Held by every callback: the stress callback may run in another thread.

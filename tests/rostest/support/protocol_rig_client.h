@@ -3,8 +3,8 @@
 // protocol_status of every tick, what one goal gave (TestRun), and the
 // checks several tests share (sane summary, rising stamps, the same summary
 // as the headless triax_run on the same protocol, a run beside CPU hogs).
-// Included by test_protocol_rig.cpp only (its main sets the ~protocols,
-// ~sample and scratch folder below).
+// Included by test_protocol_rig.cpp and test_protocol_rig_slow_claim.cpp
+// (run_rig_tests() is their main: ~protocols, ~sample, scratch folder).
 #pragma once
 
 #include <sys/wait.h>
@@ -309,6 +309,36 @@ void expect_same_as_triax_run(const TestRun& r, const std::string& protocol, con
   EXPECT_EQ(fmt9(r.result.mean_moment_index), h["mean_moment_index_to_peak"].Scalar());
   EXPECT_EQ(h["steps"].as<std::int64_t>(), r.result.steps);
   EXPECT_EQ(h["ticks"].as<std::uint64_t>(), r.result.ticks);
+}
+
+/// The test node's main: ~protocols and ~sample from the .test, a scratch
+/// folder, one Rig for every test of the binary.
+int run_rig_tests(int argc, char** argv, const char* name) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, name);
+  ros::NodeHandle nh, pnh("~");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  if (!pnh.getParam("protocols", g_protocols) || !pnh.getParam("sample", g_sample)) {
+    std::fprintf(stderr, "%s: ~protocols and ~sample must be set (see its .test)\n", name);
+    return 2;
+  }
+  char tmpl[] = "/tmp/vt_protocol_rig_XXXXXX";
+  const char* dir = mkdtemp(tmpl);
+  if (!dir) return 2;
+  g_tmp = dir;
+  int rc = 0;
+  {
+    Rig rig;
+    g_rig = &rig;
+    rc = RUN_ALL_TESTS();
+    g_rig = nullptr;
+  }
+  std::error_code ec;
+  fs::remove_all(g_tmp, ec);
+  spinner.stop();
+  ros::shutdown();
+  return rc;
 }
 
 }  // namespace

@@ -14,10 +14,10 @@ inline bool starts_with(const std::string& s, const std::string& p) { return s.c
 
 /// Polls `pred` every 20 ms of WALL time; false if it still fails after `seconds`.
 inline bool wait_until(const std::function<bool()>& pred, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
+  const ::ros::WallTime end = ::ros::WallTime::now() + ::ros::WallDuration(seconds);
+  while (::ros::ok() && ::ros::WallTime::now() < end) {
     if (pred()) return true;
-    ros::WallDuration(0.02).sleep();
+    ::ros::WallDuration(0.02).sleep();
   }
   return pred();
 }
@@ -25,8 +25,8 @@ inline bool wait_until(const std::function<bool()>& pred, double seconds) {
 /// Waits up to `seconds` (wall) for service `name`, then calls it.
 template <class S>
 bool call_service(const std::string& name, S& srv, double seconds) {
-  if (!wait_until([&] { return ros::service::exists(name, false); }, seconds)) return false;
-  return ros::service::call(name, srv);
+  if (!wait_until([&] { return ::ros::service::exists(name, false); }, seconds)) return false;
+  return ::ros::service::call(name, srv);
 }
 
 }  // namespace vt::rostest

@@ -1,0 +1,40 @@
+"""rig_service_calls.py: dem_node's services called from the Python
+controllers (py_servo_controller.py, py_rate_controller.py) the way the C++
+ones call them (include/virtual_triaxial/ros/idempotent_call.h).
+
+The answer to a ROS 1 service call can be lost after the server ran the
+request (ros/ros_comm#1976); a request whose repetition changes nothing
+(get_info, claim_axes: a repeated claim answers the first claim's tick,
+axis_arbiter.h) is then simply made again.
+"""
+import time
+
+import rospy
+
+ATTEMPTS = 3     # calls in all
+PAUSE = 0.05     # wall seconds before each repeated call
+
+
+def call_idempotent(proxy, **request):
+    """(answer, calls): the first answered call's answer and how many calls
+    were made; raises the last call's exception when none was answered."""
+    for k in range(ATTEMPTS):
+        if k > 0:
+            time.sleep(PAUSE)
+        try:
+            return proxy(**request), k + 1
+        except (rospy.ServiceException, rospy.ROSException):
+            if k == ATTEMPTS - 1:
+                raise
+    raise AssertionError("unreachable")
+
+
+def release_axes(proxy, owner, axes):
+    """'' when `owner` no longer holds `axes`, else dem_node's refusal. A
+    repeated call refused as the request of an owner of no axis (the
+    refusal names the field "owner") means the lost call released them.
+    Raises when no call was answered."""
+    r, calls = call_idempotent(proxy, owner=owner, axes=list(axes))
+    if r.success or (calls > 1 and r.message.startswith("owner:")):
+        return ""
+    return r.message
