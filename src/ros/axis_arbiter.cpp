@@ -3,6 +3,7 @@
 #include "virtual_triaxial/ros/axis_arbiter.h"
 #include "virtual_triaxial/io/number_text.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -147,6 +148,13 @@ std::vector<std::string> AxisArbiter::missing_owners(std::uint64_t tick) const {
     if (!(o.has_answered && o.answered == tick)) out.push_back(name);
   }
   return out;
+}
+
+void AxisArbiter::rewind(std::uint64_t tick) {
+  for (auto& [name, o] : owners_) {
+    o.claimed_at = std::min(o.claimed_at, tick);
+    if (o.has_answered && o.answered > tick) o.has_answered = false;
+  }
 }
 
 void AxisArbiter::reset_commands() { command_rate_ = {0.0, 0.0, 0.0}; }

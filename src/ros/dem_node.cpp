@@ -399,6 +399,7 @@ bool DemNode::on_load(virtual_triaxial::LoadSample::Request& rq, virtual_triaxia
   pending_ticks_ = 0;
   if (rq.resume) {
     tick_ = answered_tick_ = rq.tick;
+    arbiter_.rewind(tick_);  // claims held across the load answer from the resumed tick on
     ROS_INFO("dem_node: resuming a test from %s: next tick %llu (step %lld)", rq.path.c_str(),
              static_cast<unsigned long long>(tick_ + 1), static_cast<long long>(sim_->steps()));
   }

@@ -119,7 +119,7 @@ void ProtocolSession::tune_servo() {
   add("kd", sv.parameters.kd);
   add("max_dimensionless_rate", sv.max_dimensionless_rate);
   add("max_rate_change", sv.max_dimensionless_rate_change);
-  if (!c.call(r)) throw RigError(name + ": call failed");
+  call_answered(name, c, r);  // setting the same values again changes nothing
   for (const auto& d : r.response.config.doubles)
     for (const auto& want : r.request.config.doubles)
       if (d.name == want.name && d.value != want.value)
@@ -165,6 +165,7 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     r.request.dimensionless = false;
     call("set_strain_rate", r);
   }
+  const auto enabled_at = Clock::now();  // the controllers get rig_timeout_ to take their axes
   if (b.any_servo()) {
     tune_servo();
     virtual_triaxial::SetServoAxes axes;
@@ -174,23 +175,35 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     cp.request.target = st.confining_pressure.value_or(0.0);
     cp.request.ramp_seconds = 0.0;
     call(servo_ + "/set_confining_pressure", cp);
-    trigger(servo_ + "/enable");
-    if (resume) restore_controller_memory(servo_, resume->servo_memory);
+    enable_servo(enabled_at);
   }
-  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) {
-    start_rate_controller(st, judge);
-    if (resume) restore_controller_memory(rate_controller_, resume->rate_controller_memory);
-  }
+  if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) start_rate_controller(st, judge);
   std::vector<int> closed = b.servo_axes();
   if (rate_controller_on_) closed.push_back(st.axial_axis);
-  wait_for_owners(st.name, closed);
+  wait_for_owners(st.name, closed, enabled_at);
+  // Memories last: a controller takes one only once it runs (claimed).
+  if (resume && b.any_servo()) restore_controller_memory(servo_, resume->servo_memory);
+  if (resume && rate_controller_on_) restore_controller_memory(rate_controller_, resume->rate_controller_memory);
 }
 
-void ProtocolSession::wait_for_owners(const std::string& stage, const std::vector<int>& axes) {
+void ProtocolSession::enable_servo(Clock::time_point since) {
+  // ~enable answers "... not claimed yet (why), retrying" while the servo's
+  // claim is pending (servo_controller_node.h); asked again, it tries again
+  // at once. A servo that words it otherwise is waited for by wait_for_owners.
+  while (true) {
+    std_srvs::Trigger t;
+    call(servo_ + "/enable", t);
+    if (t.response.message.find("not claimed yet") == std::string::npos || seconds_since(since) > rig_timeout_)
+      return;
+    ::ros::WallDuration(0.05).sleep();
+  }
+}
+
+void ProtocolSession::wait_for_owners(const std::string& stage, const std::vector<int>& axes,
+                                      Clock::time_point since) {
   // A servo may answer ~enable before its claim is made (it retries on its
   // own); the stage must not start before: its first tick would run open loop,
   // and a claim made while dem_node runs joins at a tick the wall clock picks.
-  const auto t0 = Clock::now();
   while (true) {
     virtual_triaxial::GetInfo info;
     call("get_info", info);
@@ -199,7 +212,7 @@ void ProtocolSession::wait_for_owners(const std::string& stage, const std::vecto
       if (info.response.axis_owners[static_cast<std::size_t>(a)].empty())
         open += (open.empty() ? "" : ", ") + std::to_string(a);
     if (open.empty()) return;
-    if (seconds_since(t0) > rig_timeout_)
+    if (seconds_since(since) > rig_timeout_)
       throw RigError("stage '" + stage + "': cell axes " + open + " have no closed-loop owner " +
                      io::number_text(rig_timeout_, 3) + " s after the controllers were enabled (is " + servo_ +
                      " claiming them? see its log)");
@@ -230,10 +243,10 @@ void ProtocolSession::start_rate_controller(const protocol::StageSpec& st, const
                    "or py_rate_controller.py)");
   call(name, c);
   if (!c.response.success) throw RigError(rate_controller_ + "/configure refused: " + c.response.message);
+  rate_controller_on_ = true;  // disabled by the next stage or finish_rig, even if ~enable fails
   std_srvs::Trigger t;
   call(rate_controller_ + "/enable", t);
   if (!t.response.success) throw RigError(rate_controller_ + "/enable failed: " + t.response.message);
-  rate_controller_on_ = true;
 }
 
 protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std::string& protocol_path,
@@ -270,6 +283,17 @@ protocol::RunReport ProtocolSession::run(const io::SceneConfig& scene, const std
   claim.request.owner = owner_;
   call("claim_axes", claim);
   tick_ = claim.response.tick;
+  try {
+    return run_stages(scene, recorder, links, resume, resume_path);
+  } catch (const RigError&) {
+    finish_rig();  // controllers off, axes and our participant claim released, as after a test
+    throw;
+  }
+}
+
+protocol::RunReport ProtocolSession::run_stages(const io::SceneConfig& scene, io::ResultsRecorder& recorder,
+                                                SessionLinks& links, const io::CheckpointFile* resume,
+                                                const std::string& resume_path) {
 
   protocol::RunReport report;
   verdict_word_ = "completed";
@@ -335,7 +359,11 @@ void ProtocolSession::finish_rig() {
     }
     virtual_triaxial::ReleaseAxes rel;
     rel.request.owner = owner_;
-    call("release_axes", rel);
+    ::ros::ServiceClient c = nh_.serviceClient<virtual_triaxial::ReleaseAxes>("release_axes");
+    const ReleaseAnswer a = call_release_axes(c, rel);
+    if (!a.released)
+      ROS_WARN("test_protocol_node: leaving the rig: release_axes: %s",
+               a.answered ? a.refusal.c_str() : "dem_node does not answer");
   } catch (const RigError& e) {
     ROS_WARN("test_protocol_node: leaving the rig: %s", e.what());
   }

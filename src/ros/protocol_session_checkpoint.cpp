@@ -83,12 +83,13 @@ void ProtocolSession::take_checkpoint(std::size_t index, std::int64_t stage_step
     // recorder loses the chunk it holds in memory; the resumed run records
     // only the ticks after the checkpoint).
     if (const std::string split = nh_.resolveName(bag_recorder_ + "/split"); ::ros::service::exists(split, false)) {
+      // Called once: a split made again would add an empty bag. A failed
+      // call is the recorder's business, not the test's.
       std_srvs::Trigger t;
-      try {
-        call(split, t);
-      } catch (const RigError& e) {  // the recording is the recorder's business, not the test's
-        ROS_WARN("test_protocol_node: checkpoint: %s", e.what());
-      }
+      ::ros::ServiceClient c = nh_.serviceClient<std_srvs::Trigger>(split);
+      if (!c.call(t) || !t.response.success)
+        ROS_WARN("test_protocol_node: checkpoint: %s: %s", split.c_str(),
+                 t.response.message.empty() ? "call failed" : t.response.message.c_str());
     }
     // dem_node's state, through a sample file beside the checkpoint.
     const std::string state_file = run_checkpoint_ + ".state.h5";

@@ -119,14 +119,16 @@ bool RateControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigge
 }
 
 std::string RateControllerNode::release() {
-  if (!claimed_) return "";
   virtual_triaxial::ReleaseAxes rel;
   rel.request.owner = owner_;
   rel.request.axes.push_back(static_cast<std::uint8_t>(axis_));
+  // Asked even without a claim recorded here: dem_node may list one whose
+  // answer was lost; then a refusal means none, as we think.
+  const bool held = claimed_;
   claimed_ = false;
   const ReleaseAnswer a = call_release_axes(release_client_, rel);
-  if (!a.answered) return "release_axes: dem_node does not answer";
-  if (!a.released) return "release_axes refused: " + a.refusal;
+  if (!a.answered) return held ? "release_axes: dem_node does not answer" : "";
+  if (!a.released) return held ? "release_axes refused: " + a.refusal : "";
   return "";
 }
 

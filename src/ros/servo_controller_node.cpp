@@ -224,8 +224,8 @@ std::string ServoControllerNode::try_claim() {
            max_dimensionless_rate_, max_rate_change_, info.response.t0);
   // A state that came while the claim was pending, for a tick dem_node waits
   // on us for (an earlier claim of ours took effect, its answer lost).
-  const virtual_triaxial::Stress::ConstPtr pending = std::move(pending_);
-  pending_.reset();
+  virtual_triaxial::Stress::ConstPtr pending;
+  pending.swap(pending_);
   if (pending && pending->tick > claim_tick_) answer(*pending);
   return "";
 }

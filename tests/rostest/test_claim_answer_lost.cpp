@@ -14,8 +14,8 @@
 //   2. every answer lost while the rig is paused, then the rig runs on: the
 //      state of the tick dem_node waits on arrives before any claim answer
 //      does; once answers get through, the servo answers that tick, with the
-//      law's command for that state (bit-identical to the same state's
-//      command on a normal tick), and nothing is refused.
+//      proportional law's command for that state, bit for bit (every tick's
+//      state asks for another, unsaturated rate), and nothing is refused.
 #include <algorithm>
 #include <map>
 #include <mutex>
@@ -32,6 +32,7 @@
 #include "virtual_triaxial/GetInfo.h"
 #include "virtual_triaxial/ReleaseAxes.h"
 #include "virtual_triaxial/Stress.h"
+#include "virtual_triaxial/control/proportional_servo.h"
 #include "virtual_triaxial/ros/axis_arbiter.h"
 
 #include "support/rig_test_helpers.h"
@@ -44,9 +45,33 @@ namespace {
 
 constexpr double kT0 = 1e-6;        // [s]
 constexpr double kDt = 1e-7;        // control period [s] (publish_every 1)
-constexpr double kStress = 9.0e4;   // lateral stress of every state [Pa], target 100 kPa
+constexpr double kTarget = 1e5;     // the servo's ~target [Pa]
 constexpr double kStiffness = 1e8;  // d sigma / d eps [Pa]
+constexpr double kMaxRate = 1e-4 / kT0;  // the servo's cap: ~max_dimensionless_rate / T0 [1/s]
 const std::string kOwner = "/servo";
+
+/// Lateral stress of the state of tick `tick` [Pa]: 50 Pa further below the
+/// target each tick, so every tick asks for another (unsaturated) rate.
+double lateral_stress(std::uint64_t tick) { return kTarget - 50.0 * static_cast<double>(tick); }
+
+/// The proportional law's rates for the lateral axes on the state of `tick`
+/// (control/proportional_servo.h, the servo's gain 1 and cap).
+std::vector<double> law_rates(std::uint64_t tick) {
+  vt::control::ServoParameters p;
+  p.gain = 1.0;
+  p.max_strain_rate = kMaxRate;
+  vt::control::ProportionalServo law(p);
+  law.init({kTarget, kTarget, kTarget}, vt::control::AxisMask{true, true, false});
+  law.start(0.0);
+  vt::control::ServoInput in;
+  in.time = static_cast<double>(tick) * kDt;
+  in.dt = kDt;
+  in.stress = {lateral_stress(tick), lateral_stress(tick), 2 * kTarget};
+  in.stiffness = {kStiffness, kStiffness, kStiffness};
+  const vt::control::ServoOutput out = law.update(in);
+  EXPECT_FALSE(out.saturated[0] || out.saturated[1]) << "tick " << tick << ": the test wants unsaturated rates";
+  return {out.strain_rate[0], out.strain_rate[1]};
+}
 
 /// dem_node as far as a servo sees it: stress out, cell_command in,
 /// get_info, claim_axes (whose answers can be lost), release_axes.
@@ -89,7 +114,7 @@ class FakeDem {
     const std::lock_guard<std::mutex> l(m_);
     return refusals_;
   }
-  /// Publishes the state of tick `tick` (lateral stresses kStress).
+  /// Publishes the state of tick `tick` (lateral stresses lateral_stress(tick)).
   void publish(std::uint64_t tick) {
     vtm::Stress s;
     {
@@ -100,8 +125,8 @@ class FakeDem {
     s.time = static_cast<double>(tick) * kDt;
     s.header.stamp.fromSec(s.time);
     s.control_period = kDt;
-    s.stress[0] = s.stress[4] = kStress;
-    s.stress[8] = 2 * kStress;
+    s.stress[0] = s.stress[4] = lateral_stress(tick);
+    s.stress[8] = 2 * kTarget;
     s.stiffness = {kStiffness, kStiffness, kStiffness};
     stress_pub_.publish(s);
   }
@@ -174,24 +199,27 @@ TEST(ClaimAnswerLost, OneLostAnswerIsClaimedAgainBeforeEnableAnswers) {
   FakeDem& dem = *g_dem;
   ASSERT_TRUE(wait_until([&] { return dem.connected(); }, 60.0)) << "the servo did not connect";
   dem.publish(1);  // the paused rig's last state
-  ros::WallDuration(0.2).sleep();
+  // The servo sees both connections too once an enable claims (answers intact).
+  ASSERT_TRUE(wait_until([&] { return !contains(trigger(kOwner + "/enable").message, "not claimed"); }, 60.0));
+  ASSERT_TRUE(trigger(kOwner + "/disable").success);
+  ASSERT_FALSE(dem.claimed_at().has_value());
+  const int before = dem.claims();
   dem.lose_claim_answers(1);
   const std_srvs::Trigger::Response r = trigger(kOwner + "/enable");
   EXPECT_TRUE(r.success) << r.message;
   EXPECT_FALSE(contains(r.message, "not claimed")) << r.message;
-  EXPECT_EQ(dem.claims(), 2) << "the claim whose answer was lost is made once more";
+  EXPECT_EQ(dem.claims() - before, 2) << "the claim whose answer was lost is made once more";
   EXPECT_EQ(dem.claimed_at(), std::optional<std::uint64_t>(1));
 
   dem.publish(2);  // resumed: dem_node waits on the servo for tick 2
   EXPECT_TRUE(wait_until([&] { return dem.missing(2).empty(); }, 5.0)) << "tick 2 not answered";
-  EXPECT_EQ(dem.command(2).size(), 2u);
+  EXPECT_EQ(dem.command(2), law_rates(2));
   EXPECT_TRUE(dem.refusals().empty()) << dem.refusals().front();
 }
 
 TEST(ClaimAnswerLost, AnswersLostUntilTheRigRunsAreRecoveredOnTheTickItWaitsOn) {
   FakeDem& dem = *g_dem;
-  const std::vector<double> normal = dem.command(2);
-  ASSERT_EQ(normal.size(), 2u) << "test 1 did not run";
+  ASSERT_EQ(dem.command(2).size(), 2u) << "test 1 did not run";
   ASSERT_TRUE(trigger(kOwner + "/disable").success);
   ASSERT_FALSE(dem.claimed_at().has_value()) << "disable released the axes";
 
@@ -213,7 +241,8 @@ TEST(ClaimAnswerLost, AnswersLostUntilTheRigRunsAreRecoveredOnTheTickItWaitsOn) 
   EXPECT_TRUE(wait_until([&] { return dem.missing(3).empty(); }, 5.0))
       << "tick 3 not answered after the claim answers got through";
   EXPECT_EQ(dem.claimed_at(), std::optional<std::uint64_t>(2)) << "claims made again keep the first tick";
-  EXPECT_EQ(dem.command(3), normal) << "the same state must get the law's same command";
+  EXPECT_EQ(dem.command(3), law_rates(3)) << "the law's command for the state of tick 3";
+  EXPECT_NE(law_rates(3), law_rates(2)) << "states that differ ask for different rates";
   dem.publish(4);
   EXPECT_TRUE(wait_until([&] { return dem.missing(4).empty(); }, 5.0)) << "tick 4 not answered";
   EXPECT_TRUE(dem.refusals().empty()) << dem.refusals().front();

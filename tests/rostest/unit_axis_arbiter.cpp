@@ -64,6 +64,24 @@ TEST(AxisArbiter, AClaimMadeAgainKeepsTheTickOfTheFirstClaim) {
   EXPECT_FALSE(a.claimed_at("servo").has_value()) << "released: no claim";
 }
 
+TEST(AxisArbiter, ARewindMovesLaterClaimsToTheResumedTick) {
+  // dem_node resumes a test from a checkpoint of tick 5 after it had
+  // published tick 9: a claim of tick 8 held across the load must be
+  // waited on from tick 6, and a repeated claim answered tick 5, not 8
+  // (the owner would skip ticks 6-8 and dem_node would not wait on it).
+  AxisArbiter a = make();
+  ASSERT_EQ(a.claim("servo", {0, 1}, 8), "");
+  ASSERT_EQ(a.claim("early", {2}, 3), "");
+  ASSERT_EQ(a.command("servo", 9, {0, 1}, {1.0, 1.0}, 9, true), "");
+  EXPECT_EQ(a.answer_tick("servo", 5), 5u) << "never a tick after the last published one";
+  a.rewind(5);
+  EXPECT_EQ(a.claimed_at("servo"), std::optional<std::uint64_t>(5));
+  EXPECT_EQ(a.claimed_at("early"), std::optional<std::uint64_t>(3)) << "an earlier claim is kept";
+  EXPECT_EQ(a.missing_owners(6), (std::vector<std::string>{"early", "servo"}));
+  ASSERT_EQ(a.claim("servo", {0, 1}, 5), "");
+  EXPECT_EQ(a.answer_tick("servo", 5), 5u);
+}
+
 TEST(AxisArbiter, AClaimWithARepeatedAxisIsRefusedNamingTheEntry) {
   AxisArbiter a = make();
   EXPECT_EQ(a.claim("servo", {0, 1, 0}, 0), "axes[2]: axis 0 is repeated");

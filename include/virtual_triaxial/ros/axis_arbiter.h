@@ -22,6 +22,7 @@
 // "<field>: <reason>" naming the request field; "" means accepted.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <map>
@@ -52,11 +53,15 @@ class AxisArbiter {
   /// its first answer was lost (ros/ros_comm#1976) then tells the owner
   /// which ticks dem_node waits on it for.
   std::optional<std::uint64_t> claimed_at(const std::string& owner) const;
-  /// The tick claim_axes answers for a claim made at `tick`: claimed_at(owner)
-  /// once accepted, `tick` for a refused one.
+  /// The tick claim_axes answers for an accepted claim made at the last
+  /// published tick `tick`: claimed_at(owner), never after `tick`.
   std::uint64_t answer_tick(const std::string& owner, std::uint64_t tick) const {
-    return claimed_at(owner).value_or(tick);
+    return std::min(claimed_at(owner).value_or(tick), tick);
   }
+  /// The published ticks start again after `tick` (a test resumed from a
+  /// checkpoint): a claim that took effect after it now takes effect at it,
+  /// so its owner is waited on from tick + 1.
+  void rewind(std::uint64_t tick);
   /// Empty `axes`: every axis of `owner`.
   std::string release(const std::string& owner, const std::vector<int>& axes);
   /// Open-loop rate [1/s] of an axis nobody owns.

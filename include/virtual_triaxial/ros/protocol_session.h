@@ -82,6 +82,9 @@ struct SessionLinks {
 
 class ProtocolSession {
  public:
+  /// Calls of a service whose answer is lost, in all, and the pause between them.
+  static constexpr CallRetry kSessionRetry{5, 0.2};
+
   ProtocolSession(const ::ros::NodeHandle& nh, std::string servo, std::string owner, double rig_timeout);
 
   /// Runs every stage of `scene` (loaded from `protocol_path`) on the rig.
@@ -120,6 +123,10 @@ class ProtocolSession {
   /// call); throws RigError when it is not there or refuses (success false).
   template <class Srv>
   void call(const std::string& name, Srv& srv);
+  /// `srv` on `c` (service `name`), made again when its answer is lost;
+  /// RigError when no call is answered.
+  template <class Srv>
+  void call_answered(const std::string& name, ::ros::ServiceClient& c, Srv& srv);
   void trigger(const std::string& name);
   std::uint64_t current_tick();
   /// control.servo -> the servo's dynamic_reconfigure (if it has one).
@@ -128,9 +135,16 @@ class ProtocolSession {
   /// checkpoint's rates, the controllers' memories restored).
   void configure_stage(const protocol::StageSpec& st, const protocol::StageJudge& judge,
                        const protocol::RunCheckpoint* resume);
+  /// The stages of run() after the rig is set up (run() leaves the rig on a RigError).
+  protocol::RunReport run_stages(const io::SceneConfig& scene, io::ResultsRecorder& recorder, SessionLinks& links,
+                                 const io::CheckpointFile* resume, const std::string& resume_path);
+  /// The servo's ~enable, asked again while it answers "not claimed yet",
+  /// until rig_timeout_ after `since`.
+  void enable_servo(std::chrono::steady_clock::time_point since);
   /// Returns once dem_node lists a closed-loop owner for every axis of
-  /// `axes`; RigError naming the open axes after rig_timeout_.
-  void wait_for_owners(const std::string& stage, const std::vector<int>& axes);
+  /// `axes`; RigError naming the open axes rig_timeout_ after `since`.
+  void wait_for_owners(const std::string& stage, const std::vector<int>& axes,
+                       std::chrono::steady_clock::time_point since);
   /// The rate controller's ~configure + ~enable for a stage whose strategy is not `fixed`.
   void start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge);
   /// The judge of stage `st`, with the specimen as dem_node has it now (or
@@ -185,17 +199,23 @@ class ProtocolSession {
 };
 
 template <class Srv>
+void ProtocolSession::call_answered(const std::string& name, ::ros::ServiceClient& c, Srv& srv) {
+  // The session's requests change nothing when made again (idempotent_call.h;
+  // reset_strain, load_sample and set_memory because dem_node is paused
+  // then), so a call whose answer is lost is made again before the test is
+  // given up.
+  const bool called = call_idempotent(c, srv, kSessionRetry, [&](int k) {
+    ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), k);
+  }) > 0;
+  if (!called) throw RigError(name + ": call failed (" + std::to_string(kSessionRetry.attempts) + " attempts)");
+}
+
+template <class Srv>
 void ProtocolSession::call(const std::string& name, Srv& srv) {
   ::ros::ServiceClient c = nh_.serviceClient<Srv>(name);
   if (!c.waitForExistence(::ros::Duration(rig_timeout_)))
     throw RigError(name + ": service not available within " + std::to_string(rig_timeout_) + " s");
-  // Every request the session makes is idempotent (idempotent_call.h), so
-  // a call whose answer is lost is made again before the test is given up.
-  const CallRetry retry{5, 0.2};
-  const bool called = call_idempotent(c, srv, retry, [&](int k) {
-    ROS_WARN("test_protocol_node: %s: call failed, retrying (%d)", name.c_str(), k);
-  }) > 0;
-  if (!called) throw RigError(name + ": call failed (5 attempts)");
+  call_answered(name, c, srv);
   if constexpr (!std::is_same_v<Srv, virtual_triaxial::GetInfo>) {
     if (!srv.response.success) throw RigError(name + " refused: " + srv.response.message);
   }
