@@ -37,7 +37,8 @@ Services, in the node's PRIVATE namespace (e.g. /servo/enable):
 set_confining_pressure (target for every controlled axis, linear ramp over
 ramp_seconds of SIMULATION time), set_axis_targets, set_axes (change the
 controlled axes; the test protocol node uses it between stages), enable
-(claim + start), disable (release_axes), get_memory / set_memory (the
+(claim + start; "not claimed yet (why), retrying" while the claim is
+pending, as the C++ node answers), disable (release_axes), get_memory / set_memory (the
 law's memory for a rig checkpoint and its resume: none, the proportional
 law keeps no state between updates). Refusals name the field.
 

@@ -45,7 +45,9 @@
 // controllers can share a rig: set_confining_pressure (target for every
 // controlled axis, ramp in simulation seconds), set_axis_targets (per-axis
 // targets, ramp), set_axes (change the controlled axes: release, then claim
-// the new set when enabled), enable (claim + start), disable (stop +
+// the new set when enabled), enable (claim + start; while the claim is
+// pending its answer says "not claimed yet (why), retrying", which
+// test_protocol_node reads to ask again before a stage), disable (stop +
 // release_axes), get_memory / set_memory (GetMemory.srv / SetMemory.srv: the
 // strategy's memory, e.g. the PID's integral, for a rig checkpoint and its
 // resume; set_memory only while enabled and claimed).
