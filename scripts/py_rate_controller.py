@@ -200,17 +200,8 @@ class PyRateController:
 
     def on_disable(self, _):
         with self.lock:
-            # Asked even without a claim recorded here: dem_node may list one
-            # whose answer was lost; then a refusal means none, as we think.
-            why = ""
             held, self.claimed = self.claimed, False
-            try:
-                refusal = release_axes(self.release_srv, self.owner, [self.axis])
-                if refusal and held:
-                    why = "release_axes refused: " + refusal
-            except (rospy.ServiceException, rospy.ROSException) as e:
-                if held:
-                    why = "release_axes: dem_node does not answer (%s)" % e
+            _, why = release_axes(self.release_srv, self.owner, [self.axis], held)
             self.law = None
             return TriggerResponse(not why, why or "disabled; axis released")
 

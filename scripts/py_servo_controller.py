@@ -269,16 +269,11 @@ class PyServoController:
         """release_axes; '' on success. Asked even without a claim recorded
         here (dem_node may list one whose answer was lost); then a refusal
         means none, as we think. Caller holds the lock."""
-        held = self.claimed
-        try:
-            refusal = release_axes(self.release_srv, self.owner, self.axes)
-        except (rospy.ServiceException, rospy.ROSException):
-            return "release_axes not available" if held else ""
-        self.claimed = False  # refused means we do not own them any more either
-        self.pending = None
-        if refusal and held:
-            return "release_axes refused: " + refusal
-        return ""
+        answered, why = release_axes(self.release_srv, self.owner, self.axes, self.claimed)
+        if answered:
+            self.claimed = False  # refused means we do not own them any more either
+            self.pending = None
+        return why
 
     def retry_loop(self):
         while not rospy.is_shutdown():

@@ -29,12 +29,18 @@ def call_idempotent(proxy, **request):
     raise AssertionError("unreachable")
 
 
-def release_axes(proxy, owner, axes):
-    """'' when `owner` no longer holds `axes`, else dem_node's refusal. A
-    repeated call refused as the request of an owner of no axis (the
-    refusal names the field "owner") means the lost call released them.
-    Raises when no call was answered."""
-    r, calls = call_idempotent(proxy, owner=owner, axes=list(axes))
-    if r.success or (calls > 1 and r.message.startswith("owner:")):
-        return ""
-    return r.message
+def release_axes(proxy, owner, axes, held):
+    """(answered, why): release_axes for `owner`, asked even when it `held`
+    no claim (dem_node may list one whose answer was lost). `why` is '' when
+    the axes are released, or when nothing was held (a refusal or silence
+    then means none, as the caller thinks); a repeated call refused as the
+    request of an owner of no axis (the refusal names the field "owner")
+    means the lost call released them (as ReleaseAnswer::why in
+    include/virtual_triaxial/ros/idempotent_call.h)."""
+    try:
+        r, calls = call_idempotent(proxy, owner=owner, axes=list(axes))
+    except (rospy.ServiceException, rospy.ROSException):
+        return False, "release_axes: dem_node does not answer" if held else ""
+    if r.success or (calls > 1 and r.message.startswith("owner:")) or not held:
+        return True, ""
+    return True, "release_axes refused: " + r.message

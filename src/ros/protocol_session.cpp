@@ -165,7 +165,6 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     r.request.dimensionless = false;
     call("set_strain_rate", r);
   }
-  const auto enabled_at = Clock::now();  // the controllers get rig_timeout_ to take their axes
   if (b.any_servo()) {
     tune_servo();
     virtual_triaxial::SetServoAxes axes;
@@ -175,48 +174,46 @@ void ProtocolSession::configure_stage(const protocol::StageSpec& st, const proto
     cp.request.target = st.confining_pressure.value_or(0.0);
     cp.request.ramp_seconds = 0.0;
     call(servo_ + "/set_confining_pressure", cp);
-    enable_servo(enabled_at);
   }
   if (st.rate_spec.strategy != control::RateStrategyKind::Fixed) start_rate_controller(st, judge);
   std::vector<int> closed = b.servo_axes();
   if (rate_controller_on_) closed.push_back(st.axial_axis);
-  wait_for_owners(st.name, closed, enabled_at);
+  await_controllers(st.name, closed, b.any_servo());
   // Memories last: a controller takes one only once it runs (claimed).
   if (resume && b.any_servo()) restore_controller_memory(servo_, resume->servo_memory);
   if (resume && rate_controller_on_) restore_controller_memory(rate_controller_, resume->rate_controller_memory);
 }
 
-void ProtocolSession::enable_servo(Clock::time_point since) {
-  // ~enable answers "... not claimed yet (why), retrying" while the servo's
-  // claim is pending (servo_controller_node.h); asked again, it tries again
-  // at once. A servo that words it otherwise is waited for by wait_for_owners.
+void ProtocolSession::await_controllers(const std::string& stage, const std::vector<int>& axes, bool servo) {
+  // The stage must not start before its controllers hold their axes: its
+  // first tick would run open loop, and a claim made while dem_node runs
+  // joins at a tick the wall clock picks. A servo's ~enable answers "... not
+  // claimed yet (why), retrying" while its claim is pending
+  // (servo_controller_node.h); asked again, it tries again at once (and
+  // learns of a claim dem_node ran but whose answer it lost). A servo that
+  // words it otherwise is still waited for through dem_node's owners.
+  const auto t0 = Clock::now();
   while (true) {
-    std_srvs::Trigger t;
-    call(servo_ + "/enable", t);
-    if (t.response.message.find("not claimed yet") == std::string::npos || seconds_since(since) > rig_timeout_)
-      return;
-    ::ros::WallDuration(0.05).sleep();
-  }
-}
-
-void ProtocolSession::wait_for_owners(const std::string& stage, const std::vector<int>& axes,
-                                      Clock::time_point since) {
-  // A servo may answer ~enable before its claim is made (it retries on its
-  // own); the stage must not start before: its first tick would run open loop,
-  // and a claim made while dem_node runs joins at a tick the wall clock picks.
-  while (true) {
+    std::string pending;
+    if (servo) {
+      std_srvs::Trigger t;
+      call(servo_ + "/enable", t);
+      if (t.response.message.find("not claimed yet") != std::string::npos) pending = t.response.message;
+    }
     virtual_triaxial::GetInfo info;
     call("get_info", info);
     std::string open;
     for (int a : axes)
       if (info.response.axis_owners[static_cast<std::size_t>(a)].empty())
         open += (open.empty() ? "" : ", ") + std::to_string(a);
-    if (open.empty()) return;
-    if (seconds_since(since) > rig_timeout_)
-      throw RigError("stage '" + stage + "': cell axes " + open + " have no closed-loop owner " +
-                     io::number_text(rig_timeout_, 3) + " s after the controllers were enabled (is " + servo_ +
-                     " claiming them? see its log)");
-    ::ros::WallDuration(0.02).sleep();
+    if (open.empty() && pending.empty()) return;
+    if (seconds_since(t0) > rig_timeout_)
+      throw RigError("stage '" + stage + "': " +
+                     (open.empty() ? servo_ + "/enable still answers '" + pending + "'"
+                                   : "cell axes " + open + " have no closed-loop owner") +
+                     " " + io::number_text(rig_timeout_, 3) + " s after the controllers were enabled (is " +
+                     servo_ + " claiming them? see its log)");
+    ::ros::WallDuration(0.05).sleep();
   }
 }
 

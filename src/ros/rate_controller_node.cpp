@@ -122,14 +122,9 @@ std::string RateControllerNode::release() {
   virtual_triaxial::ReleaseAxes rel;
   rel.request.owner = owner_;
   rel.request.axes.push_back(static_cast<std::uint8_t>(axis_));
-  // Asked even without a claim recorded here: dem_node may list one whose
-  // answer was lost; then a refusal means none, as we think.
-  const bool held = claimed_;
+  const bool held = claimed_;  // asked even without a claim (ReleaseAnswer::why)
   claimed_ = false;
-  const ReleaseAnswer a = call_release_axes(release_client_, rel);
-  if (!a.answered) return held ? "release_axes: dem_node does not answer" : "";
-  if (!a.released) return held ? "release_axes refused: " + a.refusal : "";
-  return "";
+  return call_release_axes(release_client_, rel).why(held);
 }
 
 bool RateControllerNode::on_disable(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& rs) {

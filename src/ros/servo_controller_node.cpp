@@ -235,14 +235,12 @@ std::string ServoControllerNode::release() {
   virtual_triaxial::ReleaseAxes rel;
   rel.request.owner = owner_;
   rel.request.axes.assign(axes_.begin(), axes_.end());
-  // Asked even without a claim recorded here: dem_node may still list one
-  // (a claim whose answer we did not see); then a refusal means none, as we think.
-  const bool held = claimed_;
+  const bool held = claimed_;  // asked even without a claim (ReleaseAnswer::why)
   const ReleaseAnswer a = call_release_axes(release_client_, rel);
-  if (!a.answered) return held ? "release_axes not available" : "";
+  if (!a.answered) return a.why(held);
   claimed_ = false;  // refused means we do not own them any more either
   pending_.reset();
-  if (!a.released) return held ? "release_axes refused: " + a.refusal : "";
+  if (!a.released) return a.why(held);
   if (!held)
     ROS_WARN("servo_controller_node: released axes %s that dem_node still listed for '%s'", axes_text(axes_).c_str(),
              owner_.c_str());

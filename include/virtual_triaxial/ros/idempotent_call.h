@@ -50,6 +50,13 @@ struct ReleaseAnswer {
   bool answered = false;
   bool released = false;
   std::string refusal;
+  /// What a controller reports of it: "" when released, or when it held no
+  /// claim (it asks anyway, in case dem_node lists one whose answer was
+  /// lost; then a refusal or silence means none, as it thinks).
+  std::string why(bool held) const {
+    if (released || !held) return "";
+    return answered ? "release_axes refused: " + refusal : "release_axes: dem_node does not answer";
+  }
 };
 inline ReleaseAnswer call_release_axes(::ros::ServiceClient& client, virtual_triaxial::ReleaseAxes& rel) {
   ReleaseAnswer a;

@@ -138,13 +138,10 @@ class ProtocolSession {
   /// The stages of run() after the rig is set up (run() leaves the rig on a RigError).
   protocol::RunReport run_stages(const io::SceneConfig& scene, io::ResultsRecorder& recorder, SessionLinks& links,
                                  const io::CheckpointFile* resume, const std::string& resume_path);
-  /// The servo's ~enable, asked again while it answers "not claimed yet",
-  /// until rig_timeout_ after `since`.
-  void enable_servo(std::chrono::steady_clock::time_point since);
-  /// Returns once dem_node lists a closed-loop owner for every axis of
-  /// `axes`; RigError naming the open axes rig_timeout_ after `since`.
-  void wait_for_owners(const std::string& stage, const std::vector<int>& axes,
-                       std::chrono::steady_clock::time_point since);
+  /// Enables the servo (when `servo`) and returns once it no longer answers
+  /// "not claimed yet" and dem_node lists a closed-loop owner for every axis
+  /// of `axes`; RigError naming the open axes after rig_timeout_.
+  void await_controllers(const std::string& stage, const std::vector<int>& axes, bool servo);
   /// The rate controller's ~configure + ~enable for a stage whose strategy is not `fixed`.
   void start_rate_controller(const protocol::StageSpec& st, const protocol::StageJudge& judge);
   /// The judge of stage `st`, with the specimen as dem_node has it now (or
