@@ -205,6 +205,21 @@ cleanup() {  # gently: roslaunch stops the rig (the recorder closes its bag), th
   pids=()
   return 0
 }
+stop_recorder() {  # the recorder alone, first: its last bag is closed before the rest of the rig stops
+  # With the nodelet rig the recorder's process is the nodelet's loader; on
+  # SIGINT it asks rig_manager to unload the nodelet, which closes the bag,
+  # and exits. Stopped together with the others, the manager unloads all its
+  # nodelets at once and has aborted at exit (boost::lock_error, once in a
+  # test suite on 2026-12-05) before the recorder's bag was closed.
+  [[ "${record}" != 0 && -n "${launch_pid}" ]] || return 0
+  local p rec=()
+  for p in $(tree "${launch_pid}"); do
+    tr '\0' ' ' <"/proc/${p}/cmdline" 2>/dev/null | grep -q -- "__name:=bag_recorder " && rec+=("${p}")
+  done
+  ((${#rec[@]})) || return 0
+  kill -INT "${rec[@]}" 2>/dev/null || true
+  wait_gone 10 "${rec[@]}" || echo "[rig] warning: the recorder did not stop within 10 s" >&2
+}
 on_signal() {
   interrupts=$((interrupts + 1))
   if ((interrupts == 1)) && [[ -n "${client_pid}" ]] && kill -0 "${client_pid}" 2>/dev/null; then
@@ -345,6 +360,7 @@ if [[ "${plots}" != 0 && -f "${out}/results.h5" ]]; then
 fi
 nap 0.5  # let the recorder write the last messages
 t_stop=${SECONDS}
+stop_recorder
 cleanup
 echo "[rig] rig stopped ($((SECONDS - t_stop)) s)$([[ "${plots}" != 0 ]] && echo '; plots')"
 if [[ "${plots}" != 0 && "${record}" != 0 ]] && compgen -G "${out}/rig*.bag" >/dev/null; then
