@@ -53,7 +53,7 @@ import time
 import warnings
 
 import rospy
-from rig_service_calls import call_idempotent, release_axes
+from rig_service_calls import call_idempotent, enabled_not_claimed_yet, release_axes
 from std_srvs.srv import Trigger, TriggerResponse
 from virtual_triaxial.msg import CellCommand, ServoState, Stress
 from virtual_triaxial.srv import (ClaimAxes, GetInfo, GetMemory, GetMemoryResponse, ReleaseAxes, SetAxisTargets,
@@ -409,7 +409,7 @@ class PyServoController:
             why = self.try_claim()
             if not why:
                 return TriggerResponse(True, "enabled; axes %s claimed" % axes_text(self.axes))
-            return TriggerResponse(True, "enabled; not claimed yet (%s), retrying" % why)
+            return TriggerResponse(True, enabled_not_claimed_yet(why))
 
     def on_get_memory(self, _):
         """The proportional law keeps no state between updates: no numbers."""

@@ -14,6 +14,18 @@ import rospy
 ATTEMPTS = 3     # calls in all
 PAUSE = 0.05     # wall seconds before each repeated call
 
+# The words of rig answers that another node acts on: the same as
+# include/virtual_triaxial/ros/rig_reply_words.h (checked equal by
+# tests/rostest/unit_rig_reply_words.cpp).
+OWNER_REFUSAL = "owner:"             # AxisArbiter refusals about the caller
+NOT_CLAIMED_YET = "not claimed yet"  # a servo's ~enable answer, claim pending
+
+
+def enabled_not_claimed_yet(why):
+    """A servo's ~enable answer while its claim is pending (as
+    reply_words::enabled_not_claimed_yet)."""
+    return "enabled; %s (%s), retrying" % (NOT_CLAIMED_YET, why)
+
 
 def call_idempotent(proxy, **request):
     """(answer, calls): the first answered call's answer and how many calls
@@ -41,6 +53,6 @@ def release_axes(proxy, owner, axes, held):
         r, calls = call_idempotent(proxy, owner=owner, axes=list(axes))
     except (rospy.ServiceException, rospy.ROSException):
         return False, "release_axes: dem_node does not answer" if held else ""
-    if r.success or (calls > 1 and r.message.startswith("owner:")) or not held:
+    if r.success or (calls > 1 and r.message.startswith(OWNER_REFUSAL)) or not held:
         return True, ""
     return True, "release_axes refused: " + r.message

@@ -2,6 +2,7 @@
 // See axis_arbiter.h.
 #include "virtual_triaxial/ros/axis_arbiter.h"
 #include "virtual_triaxial/io/number_text.h"
+#include "virtual_triaxial/ros/rig_reply_words.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +41,7 @@ std::string AxisArbiter::check_rate(double rate, const char* field) const {
 }
 
 std::string AxisArbiter::claim(const std::string& owner, const std::vector<int>& axes, std::uint64_t tick) {
-  if (owner.empty()) return "owner: must not be empty";
+  if (owner.empty()) return reply_words::owner_refusal("must not be empty");
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const int a = axes[k];
     std::string bad = check_axis(a, "axes");
@@ -73,8 +74,8 @@ std::optional<std::uint64_t> AxisArbiter::claimed_at(const std::string& owner) c
 }
 
 std::string AxisArbiter::release(const std::string& owner, const std::vector<int>& axes) {
-  if (owner.empty()) return "owner: must not be empty";
-  if (owners_.find(owner) == owners_.end()) return "owner: '" + owner + "' owns no axis";
+  if (owner.empty()) return reply_words::owner_refusal("must not be empty");
+  if (owners_.find(owner) == owners_.end()) return reply_words::owner_refusal("'" + owner + "' owns no axis");
   std::vector<int> list = axes;
   if (list.empty())
     for (int a = 0; a < 3; ++a)
@@ -113,7 +114,7 @@ std::string AxisArbiter::set_open_loop_rate(int axis, double rate) {
 std::string AxisArbiter::command(const std::string& owner, std::uint64_t tick, const std::vector<int>& axes,
                                  const std::vector<double>& rates, std::uint64_t current_tick, bool lockstep) {
   auto it = owners_.find(owner);
-  if (it == owners_.end()) return "owner: '" + owner + "' owns no axis (claim_axes first)";
+  if (it == owners_.end()) return reply_words::owner_refusal("'" + owner + "' owns no axis (claim_axes first)");
   if (axes.size() != rates.size())
     return "strain_rate: " + std::to_string(rates.size()) + " values for " + std::to_string(axes.size()) +
            " axes";

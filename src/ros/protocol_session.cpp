@@ -22,6 +22,7 @@
 #include "virtual_triaxial/io/run_limits.h"
 #include "virtual_triaxial/protocol/stage_judge.h"
 #include "virtual_triaxial/ros/measure_messages.h"
+#include "virtual_triaxial/ros/rig_reply_words.h"
 
 namespace vt::ros {
 
@@ -198,7 +199,7 @@ void ProtocolSession::await_controllers(const std::string& stage, const std::vec
     if (servo) {
       std_srvs::Trigger t;
       call(servo_ + "/enable", t);
-      if (t.response.message.find("not claimed yet") != std::string::npos) pending = t.response.message;
+      if (reply_words::says_not_claimed_yet(t.response.message)) pending = t.response.message;
     }
     virtual_triaxial::GetInfo info;
     call("get_info", info);

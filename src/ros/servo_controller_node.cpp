@@ -3,6 +3,7 @@
 #include "virtual_triaxial/ros/controller_memory.h"
 #include "virtual_triaxial/ros/idempotent_call.h"
 #include "virtual_triaxial/ros/lockstep_subscription.h"
+#include "virtual_triaxial/ros/rig_reply_words.h"
 
 #include <cmath>
 
@@ -431,7 +432,7 @@ bool ServoControllerNode::on_enable(std_srvs::Trigger::Request&, std_srvs::Trigg
   }
   const std::string why = try_claim();
   rs.message = why.empty() ? "enabled; axes " + axes_text(axes_) + " claimed"
-                           : "enabled; not claimed yet (" + why + "), retrying";
+                           : reply_words::enabled_not_claimed_yet(why);
   return true;
 }
 

@@ -17,6 +17,7 @@
 #include <ros/ros.h>
 
 #include "virtual_triaxial/ReleaseAxes.h"
+#include "virtual_triaxial/ros/rig_reply_words.h"
 
 namespace vt::ros {
 
@@ -63,7 +64,7 @@ inline ReleaseAnswer call_release_axes(::ros::ServiceClient& client, virtual_tri
   const int calls = call_idempotent(client, rel);
   a.answered = calls > 0;
   if (!a.answered) return a;
-  a.released = rel.response.success || (calls > 1 && rel.response.message.rfind("owner:", 0) == 0);
+  a.released = rel.response.success || (calls > 1 && reply_words::is_owner_refusal(rel.response.message));
   if (!a.released) a.refusal = rel.response.message;
   return a;
 }
