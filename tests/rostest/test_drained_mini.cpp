@@ -87,7 +87,7 @@ class Rig {
 
   vtm::GetInfo::Response info() {
     vtm::GetInfo s;
-    EXPECT_TRUE(call("get_info", s));
+    EXPECT_TRUE(vt::rostest::call_service_again("get_info", s, 60.0));
     return s.response;
   }
 

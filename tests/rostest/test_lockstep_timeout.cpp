@@ -34,7 +34,7 @@ bool call(const std::string& name, S& srv) {
 
 vtm::GetInfo::Response info(const std::string& ns) {
   vtm::GetInfo s;
-  EXPECT_TRUE(call(ns + "/get_info", s));
+  EXPECT_TRUE(vt::rostest::call_service_again(ns + "/get_info", s, 60.0));
   return s.response;
 }
 

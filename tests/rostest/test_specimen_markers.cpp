@@ -97,10 +97,10 @@ TEST(SpecimenMarkers, SteppingAndPausingPublishesTheNewState) {
   ASSERT_TRUE(vt::rostest::call_service("/step", st, 30.0));
   ASSERT_TRUE(st.response.success) << st.response.message;
   vtm::GetInfo info;
-  ASSERT_TRUE(wait_until([&] { return vt::rostest::call_service("/get_info", info, 5.0) && info.response.tick >= 20; }, 30.0));
+  ASSERT_TRUE(wait_until([&] { return vt::rostest::call_service_again("/get_info", info, 5.0) && info.response.tick >= 20; }, 30.0));
   std_srvs::Trigger pause;
-  ASSERT_TRUE(vt::rostest::call_service("/pause", pause, 30.0));
-  ASSERT_TRUE(vt::rostest::call_service("/get_info", info, 5.0));
+  ASSERT_TRUE(vt::rostest::call_service_again("/pause", pause, 30.0));
+  ASSERT_TRUE(vt::rostest::call_service_again("/get_info", info, 5.0));
   ASSERT_GT(info.response.time, 0.0);
   const double t = ros::Time().fromSec(info.response.time).toSec();
   EXPECT_TRUE(wait_until([&] { return received() > before && last().markers.back().header.stamp.toSec() == t; }, 30.0))

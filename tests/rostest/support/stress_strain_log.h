@@ -18,7 +18,7 @@ namespace vt::rostest {
 
 class StressStrainLog {
  public:
-  explicit StressStrainLog(ros::NodeHandle& nh) {
+  explicit StressStrainLog(::ros::NodeHandle& nh) {
     stress_sub_ = nh.subscribe("stress", 100000, &StressStrainLog::on_stress, this);
     strain_sub_ = nh.subscribe("strain", 100000, &StressStrainLog::on_strain, this);
   }
@@ -62,7 +62,7 @@ class StressStrainLog {
     strain_[m->tick] = *m;
   }
 
-  ros::Subscriber stress_sub_, strain_sub_;
+  ::ros::Subscriber stress_sub_, strain_sub_;
   std::mutex mutex_;
   std::map<std::uint64_t, virtual_triaxial::Stress> stress_;
   std::map<std::uint64_t, virtual_triaxial::Strain> strain_;
