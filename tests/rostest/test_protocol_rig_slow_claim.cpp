@@ -58,7 +58,7 @@ class FirstStageStart {
       at_ = ros::WallTime::now();
     }
     vtm::GetInfo info;
-    const bool ok = ros::service::call("get_info", info);
+    const bool ok = vt::rostest::call_service_again("get_info", info, 0.0);  // a lost answer: asked again
     const std::lock_guard<std::mutex> l(m_);
     if (ok) owners_ = info.response.axis_owners;
   }
