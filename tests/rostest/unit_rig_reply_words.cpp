@@ -4,31 +4,16 @@
 // not count as done); the servo's pending ~enable answer reads as "not
 // claimed yet"; the Python nodes' copies (scripts/rig_service_calls.py)
 // give the same words, asked of Debian's Python (the nodes' #!/usr/bin/python3).
-#include <cstdio>
-#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "support/script_run.h"
 #include "virtual_triaxial/ros/axis_arbiter.h"
 #include "virtual_triaxial/ros/rig_reply_words.h"
 
 namespace words = vt::ros::reply_words;
 using vt::ros::AxisArbiter;
-
-namespace {
-
-/// Standard output of `command` (a shell command), or "" if it failed.
-std::string output_of(const std::string& command) {
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  if (!pipe) return "";
-  std::string out;
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, pipe.get())) out += buf;
-  return out;
-}
-
-}  // namespace
 
 TEST(RigReplyWords, TheArbitersRefusalsAboutTheCallerAndOnlyThoseAreOwnerRefusals) {
   AxisArbiter a;
@@ -60,7 +45,7 @@ TEST(RigReplyWords, ThePythonNodesUseTheSameWords) {
   // rospy (which the module imports and uses only in its calls) is an
   // empty module here, so only the words can fail; the scripts folder
   // comes as an argument
-  const std::string out = output_of(
+  const std::string out = vt::test::run(
       "/usr/bin/python3 -B -c \"import sys, types; sys.path.insert(0, sys.argv[1]); "
       "sys.modules.setdefault('rospy', types.ModuleType('rospy')); import rig_service_calls as r; "
       "print(r.OWNER_REFUSAL); print(r.NOT_CLAIMED_YET); print(r.enabled_not_claimed_yet('why (x)'))\" "
