@@ -3,7 +3,7 @@
 //
 //   triax_bench --particles N --threads T [--steps S] [--seed K] [--no-sort]
 //               [--skin-ratio X] [--cache DIR] [--shape sphere|spheroid] [--aspect K]
-//               [--no-sleep]
+//               [--no-sleep] [--handoff auto|plain|streaming]
 //   triax_bench --sample FILE [--tile KxKyKz] --threads T [...]
 //   triax_bench --sample FILE [--tile KxKyKz] --alternate A,B [--block K] [...]
 //   triax_bench --sample FILE [--tile KxKyKz] --threads T --pair-tile KxKyKz
@@ -52,6 +52,9 @@
 // unchanged, so the fingerprint must not change; only pairs and rebuilds do).
 // --no-sleep: spheroid pairs found apart are tested every step
 // (Simulation::set_sleep_apart_pairs(false); same fingerprint, for A/B).
+// --handoff MODE: how the integrator stores the particles the other
+// thread reads on several threads (dem/handoff_stores.h; default auto;
+// same fingerprint, for A/B).
 // --alternate A,B [--block K] (instead of --threads): one simulation runs
 // on A threads and on B threads in turn, K steps at a time (default 200),
 // S steps on each count (so it advances 2S, which rebuilds_during_timing
@@ -163,6 +166,7 @@ int usage(const char* msg) {
                "  DIR: keep/reuse the prepared sample there (skips the preparation)\n"
                "  --shape spheroid: prolate spheroids of aspect ratio K >= 1 (default 1.2)\n"
                "  --no-sleep: spheroid pairs found apart are tested every step (A/B of sleeping)\n"
+               "  --handoff auto|plain|streaming: stores of the particles another thread reads (A/B)\n"
                "  --alternate A,B [--block K]: instead of --threads, A and B threads in turn,\n"
                "  K steps at a time (default 200); prints both costs and the speed-up of B over A\n"
                "  --pair-tile KxKyKz [--pair-sample FILE] [--block K]: with --sample, that sample (default\n"
@@ -418,6 +422,7 @@ int main(int argc, char** argv) {
   std::string cache_dir;
   bool spheroids = false;
   bool sleep = true;
+  HandoffStores::Mode handoff = HandoffStores::Mode::Auto;
   double aspect = 1.2;
   long long alternate[2] = {0, 0};  // --alternate A,B: thread counts taken in turn
   long long block = 200;            // --block: steps per turn
@@ -497,6 +502,13 @@ int main(int argc, char** argv) {
       sort_sample = true;
     } else if (k == "--no-sleep") {
       sleep = false;
+    } else if (k == "--handoff") {
+      const std::string mode = v ? v : "";
+      if (mode == "auto") handoff = HandoffStores::Mode::Auto;
+      else if (mode == "plain") handoff = HandoffStores::Mode::Plain;
+      else if (mode == "streaming") handoff = HandoffStores::Mode::Streaming;
+      else return usage("--handoff needs auto, plain or streaming");
+      ++a;
     } else if (k == "-h" || k == "--help") {
       return usage(nullptr);
     } else {
@@ -601,6 +613,7 @@ int main(int argc, char** argv) {
   // The timed setup, for the simulation and (--pair-tile) its pair.
   const auto set_up = [&](Simulation& s) {
     s.set_sleep_apart_pairs(sleep);
+    s.handoff_stores().set_mode(handoff);
     if (threads == 0) s.set_thread_governor(governor_on_this_machine(omp_get_num_procs()));
     const double shear = kShearRate / s.time_scale().t0;
     s.set_strain_rates({0.5 * shear, 0.5 * shear, -shear});  // constant volume
@@ -679,6 +692,10 @@ int main(int argc, char** argv) {
   if (sim->split_used())
     std::printf("cut_particles: %zu\nghost_pairs: %zu\nthread_run_recuts: %lld\n", sim->cut_particles(),
                 sim->ghost_pairs(), static_cast<long long>(sim->thread_runs().recuts()));
+  if (sim->handoff_stores().steps() > 0)
+    std::printf("handoff_streamed_steps: %lld of %lld\nhandoff_cost_ratio: %.2f\n",
+                static_cast<long long>(sim->handoff_stores().streamed_steps()),
+                static_cast<long long>(sim->handoff_stores().steps()), sim->handoff_stores().last_ratio());
   std::printf("rebuilds_during_timing: %lld\n", static_cast<long long>(rebuilds));
   std::printf("mean_stress_pa: %.1f\n", m.p);
   if (spheroids) {

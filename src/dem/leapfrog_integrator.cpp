@@ -10,6 +10,8 @@
 #include "virtual_triaxial/dem/huge_pages.h"
 #include "virtual_triaxial/dem/lane_transpose.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
+#include "virtual_triaxial/dem/streaming_copy.h"
+#include "virtual_triaxial/dem/streaming_copy.h"
 
 namespace vt::dem {
 
@@ -408,11 +410,30 @@ IntegrationSums LeapfrogIntegrator::advance_spheroid_lanes(const StepInputs& in,
   return acc;
 }
 
+IntegrationSums LeapfrogIntegrator::advance_streamed(const StepInputs& in, std::size_t i_begin, std::size_t i_end,
+                                                     bool measure, HandoffScratch& scratch) const {
+  std::copy(in.vel + i_begin, in.vel + i_end, scratch.vel.begin() + static_cast<std::ptrdiff_t>(i_begin));
+  std::copy(in.omg + i_begin, in.omg + i_end, scratch.omg.begin() + static_cast<std::ptrdiff_t>(i_begin));
+  std::copy(in.frac + i_begin, in.frac + i_end, scratch.frac.begin() + static_cast<std::ptrdiff_t>(i_begin));
+  StepInputs copy = in;
+  copy.vel = scratch.vel.data();
+  copy.omg = scratch.omg.data();
+  copy.frac = scratch.frac.data();
+  const IntegrationSums sums =
+      measure ? advance_sphere_lanes<true>(copy, i_begin, i_end) : advance_sphere_lanes<false>(copy, i_begin, i_end);
+  const std::size_t count = i_end - i_begin;
+  streaming_copy(in.vel + i_begin, copy.vel + i_begin, count);
+  streaming_copy(in.omg + i_begin, copy.omg + i_begin, count);
+  streaming_copy(in.frac + i_begin, copy.frac + i_begin, count);
+  return sums;
+}
+
 IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& cell,
                                             const std::vector<Vec3>& force,
                                             const std::vector<Vec3>& torque,
                                             const std::vector<Vec3>& frac_at_build, bool measure,
-                                            ThreadRuns* runs, PhaseTimes* phases) {
+                                            ThreadRuns* runs, PhaseTimes* phases,
+                                            const std::vector<std::uint8_t>* shared_chunks) {
   const std::size_t n = p.size();
   const std::int32_t nchunks = chunk_count(n);
   chunk_sums_.assign(static_cast<std::size_t>(nchunks), IntegrationSums{});
@@ -433,6 +454,26 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
   // forces are read where they were summed and the time spent counts
   // toward the cut; else equal runs (chunk_run).
   if (phases) phases->ensure_threads(omp_get_max_threads());
+  // The chunks another thread's pair loop read, stored plainly (and timed,
+  // for the choice) or streamed (handoff_stores.h): spheres without local
+  // damping on a team with the pair loop's runs.
+  const bool handoff_possible = runs && runs->threads() > 1 && runs->chunks() == nchunks && shared_chunks &&
+                                shared_chunks->size() == static_cast<std::size_t>(nchunks) && !spheroids &&
+                                !local;
+  const bool stream = handoff_possible && handoff_.streaming();
+  if (handoff_possible) {
+    handoff_.ensure_threads(runs->threads());
+    if (handoff_scratch_.size() < static_cast<std::size_t>(runs->threads()))
+      handoff_scratch_.resize(static_cast<std::size_t>(runs->threads()));
+    for (HandoffScratch& s : handoff_scratch_) {
+      if (!stream || s.vel.size() == n) continue;
+      s.vel.resize(n);
+      s.omg.resize(n);
+      s.frac.resize(n);
+    }
+  }
+  HandoffStores* handoff = &handoff_;
+  HandoffScratch* scratch = handoff_scratch_.data();
   const double region_start = phases ? omp_get_wtime() : 0.0;
 #pragma omp parallel
   {
@@ -440,9 +481,16 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
     const bool shared = runs && runs->threads() == team && runs->chunks() == nchunks && team > 1;
     const auto [c0, c1] = shared ? runs->run(t) : chunk_run(nchunks, t, team);
     const double start = shared || phases ? omp_get_wtime() : 0.0;
+    const bool handoff_here = handoff_possible && shared;
+    double mark = handoff_here && !stream ? omp_get_wtime() : 0.0;
     for (std::int32_t c = c0; c < c1; ++c) {
       const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
       const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);
+      const bool shared_chunk = handoff_here && (*shared_chunks)[static_cast<std::size_t>(c)] != 0;
+      if (stream && shared_chunk) {
+        sums[c] = advance_streamed(in, i_begin, i_end, measure, scratch[t]);
+        continue;
+      }
       if (local)
         sums[c] = spheroids ? advance_chunk<true, true>(in, i_begin, i_end, measure)
                             : advance_chunk<false, true>(in, i_begin, i_end, measure);
@@ -451,12 +499,19 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
                                        : advance_spheroid_lanes<false>(in, i_begin, i_end))
               : measure   ? advance_sphere_lanes<true>(in, i_begin, i_end)
                           : advance_sphere_lanes<false>(in, i_begin, i_end);
+      if (handoff_here && !stream) {
+        const double now = omp_get_wtime();
+        handoff->record(t, shared_chunk, now - mark, i_end - i_begin);
+        mark = now;
+      }
     }
+    if (stream) streaming_fence();
     const double busy = shared || phases ? omp_get_wtime() - start : 0.0;
     if (shared) runs->record(t, busy);
     if (phases) phases->add(t, PhaseTimes::Integrate, busy);
   }
   if (phases) phases->add_region(PhaseTimes::IntegrationRegion, omp_get_wtime() - region_start);
+  if (handoff_possible) handoff_.end_step();
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);
   return total;

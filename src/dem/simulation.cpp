@@ -220,7 +220,8 @@ bool Simulation::advance(bool measure) {
   const Mat3 h_inverse_before = cell_.h_inverse();
   cell_.deform(dt);
   const IntegrationSums is = integrator_.advance(particles_, cell_, force_, torque_, list_.frac_at_build(), measure,
-                                                 &contact_forces_.thread_runs(), &contact_forces_.phase_times());
+                                                 &contact_forces_.thread_runs(), &contact_forces_.phase_times(),
+                                                 contact_forces_.shared_chunks());
   contact_forces_.thread_runs().end_step();
   last_max_disp2_ = is.max_displacement2;
   if (settings_.time_step_basis == TimeStepBasis::Contacts) impact_u_ = impact_speed(is.max_speed2);

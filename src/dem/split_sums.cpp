@@ -30,11 +30,14 @@ void SplitSums::prepare(const NeighborList& list, std::size_t n, const ThreadRun
   ghosts_ = cut_ = 0;
   std::vector<std::vector<std::int32_t>> higher(t_count);
   std::vector<std::uint8_t> at_cut(n, 0);
+  shared_chunk_.assign(run_of_chunk.size(), 0);
   for (std::size_t e = 0; e < partner.size(); ++e) {
     const int to = run_of(owners[e]), tp = run_of(partner[e]);
     if (to == tp) continue;
     (to < tp ? ghost_ : higher)[static_cast<std::size_t>(tp)].push_back(static_cast<std::int32_t>(e));
     ++ghosts_;
+    shared_chunk_[static_cast<std::size_t>(owners[e] / kChunkSize)] = 1;
+    shared_chunk_[static_cast<std::size_t>(partner[e] / kChunkSize)] = 1;
     std::uint8_t& flag = at_cut[static_cast<std::size_t>(partner[e])];
     cut_ += flag == 0 ? 1 : 0;
     flag = 1;

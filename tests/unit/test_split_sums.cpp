@@ -8,6 +8,9 @@
 //     spheroids (the sums themselves:
 //     Restart.PairLoopSumsAcrossChunksDoNotDependOnTheThreads,
 //     SpheroidRestart.PairsCrossingThreadRunsGiveTheOneThreadBits);
+//   - the chunks another thread's pair loop reads (shared_chunks, for the
+//     integrator's stores: handoff_stores.h) are those holding the owner
+//     or the partner of a crossing pair;
 //   - the plan follows the runs, N and the list's rebuilds.
 #include <gtest/gtest.h>
 
@@ -136,11 +139,18 @@ std::size_t check_ghosts(const NeighborList& list, std::size_t n, int threads) {
     total += g.size();
   }
   std::vector<bool> at_cut(n, false);
+  std::vector<std::uint8_t> shared(static_cast<std::size_t>(chunk_count(n)), 0);
   for (std::size_t e = 0; e < partner.size(); ++e) {
     const bool crossing = run_of[static_cast<std::size_t>(owners[e])] != run_of[static_cast<std::size_t>(partner[e])];
     EXPECT_EQ(seen[e], crossing ? 1 : 0) << "entry " << e;
-    if (crossing) at_cut[static_cast<std::size_t>(partner[e])] = true;
+    if (crossing) {
+      at_cut[static_cast<std::size_t>(partner[e])] = true;
+      shared[static_cast<std::size_t>(owners[e] / kChunkSize)] = 1;
+      shared[static_cast<std::size_t>(partner[e] / kChunkSize)] = 1;
+    }
   }
+  EXPECT_EQ(plan.shared_chunks(), shared)
+      << "the chunks another thread reads: those of the owners and partners of crossing pairs";
   EXPECT_EQ(plan.cut_count(), static_cast<std::size_t>(std::count(at_cut.begin(), at_cut.end(), true)))
       << "the particles at the cut: partners of a pair owned in another run";
   EXPECT_GT(touching_lower, 0u);

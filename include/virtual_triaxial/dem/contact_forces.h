@@ -165,6 +165,10 @@ class ContactForces {
   /// On several threads: the particles with a pair owned in another run
   /// (SplitSums::cut_count); 0 otherwise.
   std::size_t cut_particles() const { return split_used_ ? split_.cut_count() : 0; }
+  /// On several threads: the chunks holding a particle another thread's
+  /// pair loop read in the last compute() (SplitSums::shared_chunks);
+  /// null otherwise.
+  const std::vector<std::uint8_t>* shared_chunks() const { return split_used_ ? &split_.shared_chunks() : nullptr; }
   /// Whether the last compute() ran on several threads (each thread's pair
   /// loop with its ghosts, split_sums.h).
   bool split_used() const { return split_used_; }

@@ -35,8 +35,10 @@
 // for the kinetic energy.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
+#include "virtual_triaxial/dem/handoff_stores.h"
 #include "virtual_triaxial/dem/local_damping.h"
 #include "virtual_triaxial/dem/particles.h"
 #include "virtual_triaxial/dem/periodic_cell.h"
@@ -59,6 +61,12 @@ struct IntegrationSums {
   void add(const IntegrationSums& o);
 };
 
+/// A thread's copies of the arrays its streamed chunks are stepped in
+/// (LeapfrogIntegrator::advance_streamed), indexed as the particles.
+struct HandoffScratch {
+  std::vector<Vec3> vel, omg, frac;
+};
+
 class LeapfrogIntegrator {
  public:
   /// Per-particle damping coefficients alpha [1/s]; dt [s].
@@ -76,10 +84,18 @@ class LeapfrogIntegrator {
   /// `runs`: the chunks per thread of the contact forces (thread_runs.h),
   /// to take and to time; null or another team: equal runs. `phases`: each
   /// thread's time in PhaseTimes::Integrate and the region's wall time are
-  /// added there (phase_times.h); null: not timed.
+  /// added there (phase_times.h); null: not timed. `shared_chunks`: per
+  /// chunk, whether another thread's pair loop read its particles
+  /// (ContactForces::shared_chunks); with `runs` on a team, spheres without
+  /// local damping store those chunks as handoff() chooses
+  /// (handoff_stores.h); null: plainly.
   IntegrationSums advance(Particles& p, const PeriodicCell& cell, const std::vector<Vec3>& force,
                           const std::vector<Vec3>& torque, const std::vector<Vec3>& frac_at_build,
-                          bool measure, ThreadRuns* runs = nullptr, PhaseTimes* phases = nullptr);
+                          bool measure, ThreadRuns* runs = nullptr, PhaseTimes* phases = nullptr,
+                          const std::vector<std::uint8_t>* shared_chunks = nullptr);
+  /// The choice of stores for the shared chunks (mode, statistics).
+  HandoffStores& handoff() { return handoff_; }
+  const HandoffStores& handoff() const { return handoff_; }
 
  private:
   /// Per-particle constants of eq. 2 of one particle.
@@ -143,6 +159,11 @@ class LeapfrogIntegrator {
   /// lanes that hold a symmetric spheroid (I2 = I3) with L != 0 and small
   /// step angles, the particle's scalar step for the others (which depends
   /// only on the particle, not on the chunks).
+  /// advance_sphere_lanes on a copy of the chunk's velocities, spins and
+  /// positions in `scratch`, stored back with streaming stores
+  /// (streaming_copy.h): the same values.
+  IntegrationSums advance_streamed(const StepInputs& in, std::size_t i_begin, std::size_t i_end, bool measure,
+                                   HandoffScratch& scratch) const;
   template <bool Measure>
   IntegrationSums advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 
@@ -153,6 +174,8 @@ class LeapfrogIntegrator {
   std::vector<CoefficientLanes> coef_;  ///< particle i: coef_[i / kLanes], lane i % kLanes
   std::vector<RotationLanes> rot_coef_;  ///< spheroids (empty without any): as coef_
   std::vector<IntegrationSums> chunk_sums_;
+  HandoffStores handoff_;
+  std::vector<HandoffScratch> handoff_scratch_;  ///< per thread, N particles once streaming is first used
 };
 
 }  // namespace vt::dem

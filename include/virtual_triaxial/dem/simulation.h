@@ -154,6 +154,10 @@ class Simulation {
   /// recorded between steps, support/thread_switching.h); the cut changes
   /// the time only, never the results. Not for use between a step's phases.
   ThreadRuns& thread_runs() { return contact_forces_.thread_runs(); }
+  /// How the integrator stores the particles another thread reads
+  /// (handoff_stores.h): its mode and statistics.
+  HandoffStores& handoff_stores() { return integrator_.handoff(); }
+  const HandoffStores& handoff_stores() const { return integrator_.handoff(); }
   /// Where the steps' time went per thread and phase since the last reset
   /// (phase_times.h: preparation, pair loop, integration, barrier waits).
   const PhaseTimes& phase_times() const { return contact_forces_.phase_times(); }

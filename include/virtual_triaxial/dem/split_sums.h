@@ -82,6 +82,10 @@ class SplitSums {
   std::size_t ghost_count() const { return ghosts_; }
   /// The particles at the cut: partners of a pair owned in another run.
   std::size_t cut_count() const { return cut_; }
+  /// Per chunk: 1 when it holds the owner or the partner of a pair that
+  /// crosses runs, i.e. a particle another thread's pair loop reads
+  /// (handoff_stores.h), else 0.
+  const std::vector<std::uint8_t>& shared_chunks() const { return shared_chunk_; }
 
  private:
   const NeighborList* list_ = nullptr;
@@ -93,6 +97,7 @@ class SplitSums {
   std::size_t cut_ = 0;
   std::vector<std::vector<std::int32_t>> ghost_;
   std::vector<std::size_t> ghost_lower_;
+  std::vector<std::uint8_t> shared_chunk_;
 };
 
 }  // namespace vt::dem
