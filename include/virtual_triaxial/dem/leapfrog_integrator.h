@@ -155,15 +155,15 @@ class LeapfrogIntegrator {
   /// results do not depend on the thread count.
   template <bool Measure>
   IntegrationSums advance_sphere_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
-  /// advance_chunk<true, false> kLanes particles at a time (SIMD) for the
-  /// lanes that hold a symmetric spheroid (I2 = I3) with L != 0 and small
-  /// step angles, the particle's scalar step for the others (which depends
-  /// only on the particle, not on the chunks).
   /// advance_sphere_lanes on a copy of the chunk's velocities, spins and
   /// positions in `scratch`, stored back with streaming stores
   /// (streaming_copy.h): the same values.
   IntegrationSums advance_streamed(const StepInputs& in, std::size_t i_begin, std::size_t i_end, bool measure,
                                    HandoffScratch& scratch) const;
+  /// advance_chunk<true, false> kLanes particles at a time (SIMD) for the
+  /// lanes that hold a symmetric spheroid (I2 = I3) with L != 0 and small
+  /// step angles, the particle's scalar step for the others (which depends
+  /// only on the particle, not on the chunks).
   template <bool Measure>
   IntegrationSums advance_spheroid_lanes(const StepInputs& in, std::size_t i_begin, std::size_t i_end) const;
 
