@@ -13,11 +13,19 @@ void HandoffStores::set_mode(Mode m) {
 }
 
 void HandoffStores::ensure_threads(int threads) {
-  if (static_cast<int>(sums_.size()) < threads) sums_.resize(static_cast<std::size_t>(threads));
+  if (static_cast<int>(sums_.size()) == threads) return;
+  sums_.assign(static_cast<std::size_t>(threads), Sums{});
+  window_steps_ = 0;
+}
+
+std::int64_t HandoffStores::streamed_chunks() const {
+  std::int64_t total = 0;
+  for (const Sums& s : sums_) total += s.streamed_chunks;
+  return total;
 }
 
 void HandoffStores::record(int t, bool shared, double seconds, std::size_t particles) {
-  Sums& s = sums_[static_cast<std::size_t>(t)];
+  Window& s = sums_[static_cast<std::size_t>(t)].window;
   (shared ? s.shared_seconds : s.other_seconds) += seconds;
   (shared ? s.shared_particles : s.other_particles) += particles;
 }
@@ -36,13 +44,14 @@ void HandoffStores::end_step() {
     return;
   }
   double ratio = 0.0;
-  for (const Sums& s : sums_) {
+  for (const Sums& slot : sums_) {
+    const Window& s = slot.window;
     if (s.shared_particles == 0 || s.other_particles == 0 || !(s.other_seconds > 0.0)) continue;
     const double r = (s.shared_seconds / static_cast<double>(s.shared_particles)) /
                      (s.other_seconds / static_cast<double>(s.other_particles));
     ratio = std::max(ratio, r);
   }
-  for (Sums& s : sums_) s = Sums{};
+  for (Sums& s : sums_) s.window = Window{};
   last_ratio_ = ratio;
   if (mode_ == Mode::Auto) streaming_ = ratio > kSlowRatio;
 }

@@ -11,7 +11,6 @@
 #include "virtual_triaxial/dem/lane_transpose.h"
 #include "virtual_triaxial/dem/rigid_rotation.h"
 #include "virtual_triaxial/dem/streaming_copy.h"
-#include "virtual_triaxial/dem/streaming_copy.h"
 
 namespace vt::dem {
 
@@ -465,8 +464,9 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
     handoff_.ensure_threads(runs->threads());
     if (handoff_scratch_.size() < static_cast<std::size_t>(runs->threads()))
       handoff_scratch_.resize(static_cast<std::size_t>(runs->threads()));
-    for (HandoffScratch& s : handoff_scratch_) {
-      if (!stream || s.vel.size() == n) continue;
+    for (std::size_t k = 0; stream && k < static_cast<std::size_t>(runs->threads()); ++k) {
+      HandoffScratch& s = handoff_scratch_[k];
+      if (s.vel.size() == n) continue;
       s.vel.resize(n);
       s.omg.resize(n);
       s.frac.resize(n);
@@ -474,10 +474,12 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
   }
   HandoffStores* handoff = &handoff_;
   HandoffScratch* scratch = handoff_scratch_.data();
+  int team_formed = 0;  // the team the region got (OpenMP may give fewer threads than planned)
   const double region_start = phases ? omp_get_wtime() : 0.0;
 #pragma omp parallel
   {
     const int t = omp_get_thread_num(), team = omp_get_num_threads();
+    if (t == 0) team_formed = team;
     const bool shared = runs && runs->threads() == team && runs->chunks() == nchunks && team > 1;
     const auto [c0, c1] = shared ? runs->run(t) : chunk_run(nchunks, t, team);
     const double start = shared || phases ? omp_get_wtime() : 0.0;
@@ -489,6 +491,7 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
       const bool shared_chunk = handoff_here && (*shared_chunks)[static_cast<std::size_t>(c)] != 0;
       if (stream && shared_chunk) {
         sums[c] = advance_streamed(in, i_begin, i_end, measure, scratch[t]);
+        handoff->count_streamed(t);
         continue;
       }
       if (local)
@@ -511,7 +514,7 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
     if (phases) phases->add(t, PhaseTimes::Integrate, busy);
   }
   if (phases) phases->add_region(PhaseTimes::IntegrationRegion, omp_get_wtime() - region_start);
-  if (handoff_possible) handoff_.end_step();
+  if (handoff_possible && team_formed == runs->threads()) handoff_.end_step();
   IntegrationSums total;
   for (const IntegrationSums& s : chunk_sums_) total.add(s);
   return total;

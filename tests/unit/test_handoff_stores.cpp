@@ -9,7 +9,8 @@
 //   - streaming_copy copies every value bit for bit at every alignment and
 //     length and writes nothing outside the destination;
 //   - on a team, the streamed stores and the plain ones give the one-thread
-//     run bit for bit, and a plain run times shared and other chunks.
+//     run bit for bit; streaming takes some chunks but not all, and a
+//     plain run times shared and other chunks.
 #include <gtest/gtest.h>
 
 #include <omp.h>
@@ -21,6 +22,7 @@
 #include "support/omp_threads.h"
 #include "support/scenes.h"
 #include "support/state_compare.h"
+#include "virtual_triaxial/dem/chunked.h"
 #include "virtual_triaxial/dem/handoff_stores.h"
 #include "virtual_triaxial/dem/periodic_tiling.h"
 #include "virtual_triaxial/dem/simulation.h"
@@ -123,10 +125,12 @@ TEST(StreamingCopy, CopiesEveryValueAtEveryAlignmentAndNothingElse) {
 
 namespace {
 
-/// A loaded, sorted packing of 1600 x 3 spheres: 10 chunks, so each of two
-/// threads' runs has chunks that the other thread reads and chunks it does not.
+/// A loaded, sorted packing of 1603 x 3 = 4809 spheres: 10 chunks, the last
+/// one partial (and not a whole number of the integrator's lane groups),
+/// so each of two threads' runs has chunks that the other thread reads and
+/// chunks it does not.
 SimulationState three_tiles() {
-  return vt::test::spatially_sorted(tile_periodic(vt::test::loaded_packing(1600), 3, 1, 1));
+  return vt::test::spatially_sorted(tile_periodic(vt::test::loaded_packing(1603), 3, 1, 1));
 }
 
 }  // namespace
@@ -134,6 +138,8 @@ SimulationState three_tiles() {
 TEST(HandoffStores, StreamedAndPlainStoresGiveTheOneThreadBits) {
   const vt::test::RestoreThreads restore;
   const SimulationState start = three_tiles();
+  const std::int64_t chunks = chunk_count(start.particles.size());
+  ASSERT_NE(start.particles.size() % 8, 0u) << "the test needs a partial lane group";
   omp_set_num_threads(1);
   Simulation one(start);
   ASSERT_EQ(one.run(120), 120) << one.failure();
@@ -145,10 +151,14 @@ TEST(HandoffStores, StreamedAndPlainStoresGiveTheOneThreadBits) {
     ASSERT_EQ(two.run(120), 120) << two.failure();
     ASSERT_TRUE(two.split_used());
     EXPECT_EQ(two.handoff_stores().steps(), 120);
+    const std::int64_t streamed = two.handoff_stores().streamed_chunks();
     if (mode == HandoffStores::Mode::Streaming) {
       EXPECT_EQ(two.handoff_stores().streamed_steps(), 120);
+      EXPECT_GE(streamed, 2 * 120) << "at least one chunk per thread and step streamed";
+      EXPECT_LT(streamed, 120 * chunks) << "the inner chunks stored plainly";
     } else {
       EXPECT_EQ(two.handoff_stores().streamed_steps(), 0);
+      EXPECT_EQ(streamed, 0);
       EXPECT_GT(two.handoff_stores().last_ratio(), 0.0) << "the plain stores timed shared and other chunks";
     }
     vt::test::expect_same_state(one.state(), two.state());

@@ -49,27 +49,35 @@ class HandoffStores {
   /// Whether this step streams the shared chunks.
   bool streaming() const { return streaming_; }
 
-  /// Sizes the per-thread sums for `threads` threads (serially, before a
-  /// team records).
+  /// Per-thread sums for `threads` threads (serially, before a team
+  /// records); another count than before starts a new window.
   void ensure_threads(int threads);
   /// Thread t spent `seconds` on `particles` particles of shared chunks
   /// (shared = true) or of other chunks, with plain stores. Thread t only.
   void record(int t, bool shared, double seconds, std::size_t particles);
-  /// After each step on several threads (serially): closes the window when
-  /// due and chooses the stores of the next steps.
+  /// Thread t streamed one chunk. Thread t only.
+  void count_streamed(int t) { ++sums_[static_cast<std::size_t>(t)].streamed_chunks; }
+  /// After each step of a team of the planned size (serially): closes the
+  /// window when due and chooses the stores of the next steps.
   void end_step();
 
   /// max_t r_t of the last plain window (0 before one closes).
   double last_ratio() const { return last_ratio_; }
   /// Steps that streamed the shared chunks.
   std::int64_t streamed_steps() const { return streamed_steps_; }
+  /// Chunks streamed, all threads (since the mode or the thread count was set).
+  std::int64_t streamed_chunks() const;
   /// Steps counted by end_step.
   std::int64_t steps() const { return steps_; }
 
  private:
-  struct alignas(64) Sums {  // one cache line per thread
+  struct Window {  // one thread's plain stores in the current window
     double shared_seconds = 0.0, other_seconds = 0.0;
     std::size_t shared_particles = 0, other_particles = 0;
+  };
+  struct alignas(64) Sums {  // one cache line per thread
+    Window window;
+    std::int64_t streamed_chunks = 0;
   };
   std::vector<Sums> sums_;
   Mode mode_ = Mode::Auto;
