@@ -484,7 +484,7 @@ IntegrationSums LeapfrogIntegrator::advance(Particles& p, const PeriodicCell& ce
     const auto [c0, c1] = shared ? runs->run(t) : chunk_run(nchunks, t, team);
     const double start = shared || phases ? omp_get_wtime() : 0.0;
     const bool handoff_here = handoff_possible && shared;
-    double mark = handoff_here && !stream ? omp_get_wtime() : 0.0;
+    double mark = start;  // the end of the last chunk timed (handoff_here implies shared: start is set)
     for (std::int32_t c = c0; c < c1; ++c) {
       const std::size_t i_begin = static_cast<std::size_t>(c) * kChunkSize;
       const std::size_t i_end = std::min(n, static_cast<std::size_t>(c + 1) * kChunkSize);

@@ -42,11 +42,8 @@ inline void streaming_copy(Vec3* dst, const Vec3* src, std::size_t count) {
   s += head;
   bytes -= head;
   for (; bytes >= kCacheLineBytes; bytes -= kCacheLineBytes, d += kCacheLineBytes, s += kCacheLineBytes) {
-    for (std::size_t k = 0; k < kCacheLineBytes; k += 16) {
-      double two[2];
-      std::memcpy(two, s + k, sizeof two);
-      _mm_stream_pd(reinterpret_cast<double*>(d + k), _mm_loadu_pd(two));
-    }
+    for (std::size_t k = 0; k < kCacheLineBytes; k += 16)
+      _mm_stream_pd(reinterpret_cast<double*>(d + k), _mm_loadu_pd(reinterpret_cast<const double*>(s + k)));
   }
 #endif
   std::memcpy(d, s, bytes);
